@@ -1,0 +1,56 @@
+"""The ``axisflow`` command: one program, a subcommand per task.
+
+Each subcommand lives in its own module with ``register(subparsers)``, which adds its parser and sets
+``func`` to a ``run(args) -> int``. User errors (:class:`axisflow.model.AxisflowError`) are printed
+as one line on stderr with exit code 2; nothing else is caught.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import logging
+import sys
+from collections.abc import Sequence
+
+from .. import __version__
+from ..model import AxisflowError
+
+# command modules, in the order --help lists them
+COMMAND_MODULES: tuple[str, ...] = (
+    "params_cmd",
+    "plan_cmd",
+    "experiment_cmd",
+)
+
+EXIT_USER_ERROR = 2
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="axisflow",
+        description="Fast, energy-aware point-to-point motion for a belt-driven linear axis.",
+    )
+    parser.add_argument("--version", action="version", version=f"axisflow {__version__}")
+    parser.add_argument("-v", "--verbose", action="count", default=0, help="more log output (-vv: debug)")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for name in COMMAND_MODULES:
+        importlib.import_module(f"{__name__}.{name}").register(sub)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    logging.basicConfig(
+        level=logging.WARNING - 10 * min(args.verbose, 2),
+        format="%(asctime)s %(levelname)s %(name)s: %(message)s",
+    )
+    try:
+        return int(args.func(args) or 0)
+    except AxisflowError as exc:
+        print(f"axisflow {args.command}: error: {exc}", file=sys.stderr)
+        return EXIT_USER_ERROR
+    except KeyboardInterrupt:
+        print(f"axisflow {args.command}: interrupted", file=sys.stderr)
+        return 130

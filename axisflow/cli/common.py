@@ -1,0 +1,72 @@
+"""Options shared by several subcommands."""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+from ..model import AxisParams, load_params
+
+
+def add_params_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--params",
+        metavar="FILE",
+        default=None,
+        help="axis parameter file (TOML, SI units); default: the packaged estimate",
+    )
+
+
+def params_from_args(args: argparse.Namespace) -> AxisParams:
+    return load_params(args.params)
+
+
+def finite_float(text: str) -> float:
+    """argparse type: a finite float (rejects nan/inf with the value named)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a finite number")
+    return value
+
+
+def non_negative_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"{value} must be >= 0")
+    return value
+
+
+def positive_int(text: str) -> int:
+    value = non_negative_int(text)
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{value} must be >= 1")
+    return value
+
+
+def add_solver_options(parser: argparse.ArgumentParser, default: str = "ipopt") -> None:
+    from ..planner import BACKENDS
+
+    parser.add_argument(
+        "--solver", choices=sorted(BACKENDS), default=default, help=f"planner back-end (default: {default})"
+    )
+    parser.add_argument(
+        "--max-iter",
+        type=positive_int,
+        default=10,
+        metavar="N",
+        help="IPOPT iteration cap (default: 10, as in the paper)",
+    )
+
+
+def backend_from_args(args: argparse.Namespace):  # noqa: ANN201 - PlannerBackend
+    from ..planner import make_backend
+
+    if args.solver == "ipopt":
+        return make_backend("ipopt", max_iter=args.max_iter)
+    return make_backend(args.solver)

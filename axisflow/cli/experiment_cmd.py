@@ -1,0 +1,67 @@
+"""``axisflow experiment``: the paper's 100-way-point experiment (offline for now)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from ..experiment import run_offline, table_markdown
+from ..files import ensure_dir, write_atomic
+from ..model import AxisflowError
+from ..paper import PAPER_WAYPOINTS
+from ..planner import DEFAULT_OMEGA
+from .common import (
+    add_params_option,
+    add_solver_options,
+    backend_from_args,
+    finite_float,
+    non_negative_int,
+    params_from_args,
+    positive_int,
+)
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "experiment",
+        help="reproduce the paper's Table 2",
+        description="Plan the moves through random way points for each case × law (Table 2 of the paper) "
+        "and write DIR/table2.md and DIR/table2.json.",
+    )
+    p.add_argument("--offline", action="store_true", help="plan only, no drive (the only mode for now)")
+    p.add_argument("--out", metavar="DIR", required=True, help="output directory (created if missing)")
+    p.add_argument("--seed", type=non_negative_int, default=0, help="way point seed (default 0)")
+    p.add_argument(
+        "--waypoints",
+        type=positive_int,
+        default=PAPER_WAYPOINTS,
+        help=f"number of way points (default {PAPER_WAYPOINTS})",
+    )
+    p.add_argument(
+        "--omega",
+        type=finite_float,
+        default=DEFAULT_OMEGA,
+        help="time weight ω of the min-time-energy case (default 0.9)",
+    )
+    add_params_option(p)
+    add_solver_options(p)
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    if not args.offline:
+        raise AxisflowError(
+            "the online experiment needs the drive bridge, which is not built yet: run with --offline"
+        )
+    params = params_from_args(args)
+    backend = backend_from_args(args)
+    out = Path(args.out)
+    result = run_offline(params, backend, seed=args.seed, waypoints=args.waypoints, omega=args.omega)
+    table = table_markdown(result)
+    ensure_dir(out)
+    write_atomic(out / "table2.json", json.dumps(result.to_json(), indent=1) + "\n")
+    write_atomic(out / "table2.md", table)
+    print(table, end="")
+    print(f"\nwrote {out / 'table2.md'} and {out / 'table2.json'}")
+    return 0

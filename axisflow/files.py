@@ -1,0 +1,40 @@
+"""Writing result files so that a crash or a bad input never leaves a half-written file."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+from .model import AxisflowError
+
+
+class OutputError(AxisflowError, OSError):
+    """An output location cannot be written."""
+
+
+def ensure_dir(path: str | Path) -> Path:
+    """Create ``path`` (and parents) if needed; a clear error if it is a file or not writable."""
+    p = Path(path)
+    try:
+        p.mkdir(parents=True, exist_ok=True)
+    except FileExistsError:
+        raise OutputError(f"output directory {p} exists and is not a directory") from None
+    except OSError as exc:
+        raise OutputError(f"output directory {p} cannot be created: {exc.strerror}") from None
+    return p
+
+
+def write_atomic(path: str | Path, data: str | bytes) -> Path:
+    """Write a whole file via a temporary file in the same directory and an atomic rename."""
+    p = Path(path)
+    mode = "wb" if isinstance(data, bytes) else "w"
+    fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", dir=p.parent)
+    try:
+        with os.fdopen(fd, mode, **({} if isinstance(data, bytes) else {"encoding": "utf-8"})) as fh:
+            fh.write(data)
+        os.replace(tmp, p)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return p

@@ -1,0 +1,100 @@
+"""Mechanical energy of a move, E = ∫ g(F·ẋ) dt, under an explicit accounting g (eq. 3).
+
+* signed:   g(P) = P        (the formula as printed; braking is refunded)
+* positive: g(P) = max(P,0) (no regeneration; the default, see docs/parameters.md)
+* absolute: g(P) = |P|
+
+For a rest-to-rest move the inertial part of the signed integral vanishes (kinetic energy is returned),
+leaving friction work: a1·|d| + a2·d²/T·∫s'² du + a3·∫atan(a4·ẋ)·ẋ dt. The other accountings have no
+closed form, so the integral is evaluated numerically: the power's sign changes are located (so the
+kinks of max/abs fall on panel edges) and each smooth piece is integrated by Gauss–Legendre
+quadrature, accurate to ~1e-12 relative.
+"""
+
+from __future__ import annotations
+
+from itertools import pairwise
+
+import numpy as np
+from scipy.optimize import brentq
+
+from .dynamics import cart_force
+from .motion_laws import Move
+from .params import AxisParams, EnergyAccounting
+
+_GL_NODES, _GL_WEIGHTS = np.polynomial.legendre.leggauss(32)
+_SCAN_POINTS = 513
+_PANELS_PER_PIECE = 4
+
+
+def count_power(power_w: np.ndarray, accounting: EnergyAccounting) -> np.ndarray:
+    """Apply the accounting g to a power signal [W]."""
+    p = np.asarray(power_w, dtype=float)
+    if accounting is EnergyAccounting.POSITIVE:
+        return np.maximum(p, 0.0)
+    if accounting is EnergyAccounting.ABSOLUTE:
+        return np.abs(p)
+    return p
+
+
+def _power_of_u(move: Move, params: AxisParams):
+    d, T, law = move.distance_m, move.duration_s, move.law
+
+    def power(u: np.ndarray) -> np.ndarray:
+        v = d / T * law.shape(u, 1)
+        a = d / T**2 * law.shape(u, 2)
+        # inside the move sign(ẋ) = sign(d); at the end points ẋ = 0 and the power is 0 either way
+        f = params.M_eq * a + params.a1 * np.sign(d) + params.a2 * v + params.a3 * np.arctan(params.a4 * v)
+        return f * v
+
+    return power
+
+
+def _gauss(f, a: float, b: float, panels: int) -> float:  # noqa: ANN001
+    edges = np.linspace(a, b, panels + 1)
+    total = 0.0
+    for lo, hi in pairwise(edges):
+        half = 0.5 * (hi - lo)
+        total += half * float(np.dot(_GL_WEIGHTS, f(lo + half * (_GL_NODES + 1.0))))
+    return total
+
+
+def move_energy(move: Move, params: AxisParams, accounting: EnergyAccounting | None = None) -> float:
+    """Mechanical energy [J] of a move under ``accounting`` (default: the parameters' own)."""
+    acc = params.energy_accounting if accounting is None else EnergyAccounting(accounting)
+    if move.distance_m == 0.0:
+        return 0.0
+    power = _power_of_u(move, params)
+    # sign changes of P(u) split [0, 1] into pieces where g is smooth
+    u = np.linspace(0.0, 1.0, _SCAN_POINTS)
+    p = power(u)
+    cuts = [0.0]
+    inner = np.sign(p[1:-1])
+    for i in np.nonzero(inner[:-1] * inner[1:] < 0)[0]:
+        cuts.append(brentq(lambda x: float(power(np.array(x))), u[i + 1], u[i + 2], xtol=1e-15))
+    cuts.append(1.0)
+    total = 0.0
+    for lo, hi in pairwise(cuts):
+        piece = _gauss(power, lo, hi, _PANELS_PER_PIECE)
+        if acc is EnergyAccounting.POSITIVE:
+            piece = max(piece, 0.0)
+        elif acc is EnergyAccounting.ABSOLUTE:
+            piece = abs(piece)
+        total += piece
+    return total * move.duration_s
+
+
+def trace_energy(
+    velocity_m_s: np.ndarray, force_n: np.ndarray, dt_s: float, accounting: EnergyAccounting
+) -> float:
+    """Energy [J] of sampled force and velocity at a fixed step (trapezoidal rule on g(F·ẋ))."""
+    p = count_power(np.asarray(force_n) * np.asarray(velocity_m_s), accounting)
+    if p.size < 2:
+        return 0.0
+    return float(dt_s * (p.sum() - 0.5 * (p[0] + p[-1])))
+
+
+def move_force(move: Move, params: AxisParams, t_s: np.ndarray) -> np.ndarray:
+    """Cart force [N] required by eq. (1) along the move at times ``t_s``."""
+    s = move.sample(t_s)
+    return cart_force(s.velocity_m_s, s.acceleration_m_s2, params)

@@ -1,0 +1,65 @@
+"""Limit check of a move at the drive's execution samples.
+
+The drive executes a move at a fixed rate (1 kHz): the samples are t_k = k·Δt for k = 0 … ⌊T/Δt⌋,
+plus the end t = T. At each sample the cart velocity and the motor torque required by eq. (1) must
+stay within ±v_max and ±tau_max. The worst violation is reported relative to the limit:
+max(|ẋ|/v_max − 1, |τ_m|/tau_max − 1, 0), so 0.01 means "1 % above a limit".
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .dynamics import cart_force, motor_torque
+from .motion_laws import Move
+from .params import AxisParams
+
+EXECUTION_RATE_HZ = 1000.0
+
+
+@dataclass(frozen=True)
+class LimitReport:
+    """Peaks of a move at the execution samples and its worst relative limit violation."""
+
+    peak_velocity_m_s: float
+    peak_torque_nm: float
+    velocity_violation: float
+    """max(|ẋ|/v_max − 1, 0) at the samples"""
+    torque_violation: float
+    """max(|τ_m|/tau_max − 1, 0) at the samples"""
+    samples: int
+
+    @property
+    def max_violation(self) -> float:
+        return max(self.velocity_violation, self.torque_violation)
+
+    @property
+    def ok(self) -> bool:
+        return self.max_violation <= 0.0
+
+
+def execution_times(duration_s: float, rate_hz: float = EXECUTION_RATE_HZ) -> np.ndarray:
+    """Sample times [s] of a move executed at ``rate_hz``: k/rate for k = 0…⌊T·rate⌋, and T."""
+    n = int(np.floor(duration_s * rate_hz + 1e-9))
+    t = np.arange(n + 1) / rate_hz
+    if t[-1] < duration_s:
+        t = np.append(t, duration_s)
+    return t
+
+
+def check_limits(move: Move, params: AxisParams, rate_hz: float = EXECUTION_RATE_HZ) -> LimitReport:
+    """Peaks and worst violation of velocity and motor torque at the execution samples."""
+    t = execution_times(move.duration_s, rate_hz)
+    s = move.sample(t)
+    tau = motor_torque(cart_force(s.velocity_m_s, s.acceleration_m_s2, params), params)
+    v_peak = float(np.max(np.abs(s.velocity_m_s)))
+    tau_peak = float(np.max(np.abs(tau)))
+    return LimitReport(
+        peak_velocity_m_s=v_peak,
+        peak_torque_nm=tau_peak,
+        velocity_violation=max(v_peak / params.v_max - 1.0, 0.0),
+        torque_violation=max(tau_peak / params.tau_max - 1.0, 0.0),
+        samples=int(t.size),
+    )

@@ -1,0 +1,179 @@
+"""Parameters of the axis model, eq. (1) of the paper, loaded from validated TOML.
+
+A parameter file is a flat TOML table with exactly the keys of :class:`AxisParams` (SI units, see
+:data:`axisflow.model.units.PARAMETER_UNITS`). The package ships a default
+(``default_axis.toml``); any other file can be given with ``--params FILE``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import tomllib
+from dataclasses import dataclass
+from enum import StrEnum
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from .errors import ParameterError
+from .units import PARAMETER_UNITS
+
+DEFAULT_PARAMS_RESOURCE = "default_axis.toml"
+
+
+class EnergyAccounting(StrEnum):
+    """How the mechanical energy of a move is counted.
+
+    ``signed``: E = ∫F·ẋ dt, as printed in eq. (3); braking energy is credited back.
+    ``positive``: E = ∫max(F·ẋ, 0) dt; the drive does not regenerate (braking is free, not refunded).
+    ``absolute``: E = ∫|F·ẋ| dt; braking costs as much as driving.
+    """
+
+    SIGNED = "signed"
+    POSITIVE = "positive"
+    ABSOLUTE = "absolute"
+
+
+_STRICTLY_POSITIVE = ("m", "J_m", "J_g", "J_p", "r", "i_r", "L", "v_max", "tau_max")
+_NON_NEGATIVE = ("a1", "a2", "a3", "a4")
+
+
+@dataclass(frozen=True)
+class AxisParams:
+    """Physical parameters of the belt-driven axis (SI units)."""
+
+    m: float
+    """cart mass [kg]"""
+    J_m: float
+    """motor rotor inertia [kg·m²]"""
+    J_g: float
+    """gearbox inertia referred to the motor [kg·m²]"""
+    J_p: float
+    """inertia of one pulley [kg·m²]"""
+    r: float
+    """pulley radius [m]"""
+    i_r: float
+    """gear reduction ratio [-]"""
+    L: float
+    """stroke [m]; positions lie in [0, L]"""
+    a1: float
+    """Coulomb friction [N]"""
+    a2: float
+    """viscous friction [N·s/m]"""
+    a3: float
+    """low-speed friction amplitude [N]"""
+    a4: float
+    """low-speed friction shape [s/m]"""
+    v_max: float
+    """cart velocity limit [m/s]"""
+    tau_max: float
+    """motor torque limit [N·m]"""
+    energy_accounting: EnergyAccounting = EnergyAccounting.POSITIVE
+
+    def __post_init__(self) -> None:
+        for name in _STRICTLY_POSITIVE + _NON_NEGATIVE:
+            value = getattr(self, name)
+            unit = PARAMETER_UNITS[name]
+            if isinstance(value, bool) or not isinstance(value, int | float):
+                raise ParameterError(f"parameter {name} must be a number in {unit}, got {value!r}")
+            if not math.isfinite(value):
+                raise ParameterError(f"parameter {name} = {value} {unit} is not finite")
+            if name in _STRICTLY_POSITIVE and value <= 0:
+                raise ParameterError(f"parameter {name} = {value} {unit} must be > 0 {unit}")
+            if name in _NON_NEGATIVE and value < 0:
+                raise ParameterError(f"parameter {name} = {value} {unit} must be >= 0 {unit}")
+            object.__setattr__(self, name, float(value))
+        try:
+            accounting = EnergyAccounting(self.energy_accounting)
+        except ValueError:
+            choices = ", ".join(e.value for e in EnergyAccounting)
+            raise ParameterError(
+                f"parameter energy_accounting = {self.energy_accounting!r} is not one of: {choices}"
+            ) from None
+        object.__setattr__(self, "energy_accounting", accounting)
+
+    @property
+    def M_eq(self) -> float:
+        """Equivalent translating mass [kg]: m + ((J_m + J_g)·i_r² + 2·J_p)/r² (eq. 1)."""
+        return self.m + ((self.J_m + self.J_g) * self.i_r**2 + 2.0 * self.J_p) / self.r**2
+
+    @property
+    def force_per_torque(self) -> float:
+        """Cart force per motor torque [N/(N·m)] = i_r / r."""
+        return self.i_r / self.r
+
+    @property
+    def f_max(self) -> float:
+        """Cart force equivalent of the motor torque limit [N]."""
+        return self.tau_max * self.i_r / self.r
+
+    def replace(self, **changes: Any) -> AxisParams:
+        """A copy with some fields changed (validated again)."""
+        return dataclasses.replace(self, **changes)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The effective parameters as plain JSON-ready values (SI units), M_eq included."""
+        out: dict[str, Any] = {name: getattr(self, name) for name in PARAMETER_KEYS}
+        out["M_eq"] = self.M_eq
+        out["energy_accounting"] = self.energy_accounting.value
+        return out
+
+
+PARAMETER_KEYS: tuple[str, ...] = tuple(
+    f.name for f in dataclasses.fields(AxisParams) if f.name != "energy_accounting"
+)
+FILE_KEYS: tuple[str, ...] = (*PARAMETER_KEYS, "energy_accounting")
+
+
+def params_from_mapping(data: dict[str, Any], source: str = "parameters") -> AxisParams:
+    """Validate a flat mapping into :class:`AxisParams`; unknown or missing keys are errors."""
+    unknown = sorted(set(data) - set(FILE_KEYS))
+    if unknown:
+        raise ParameterError(
+            f"{source}: unknown key(s) {', '.join(unknown)}; allowed keys: {', '.join(FILE_KEYS)}"
+        )
+    missing = [k for k in FILE_KEYS if k not in data]
+    if missing:
+        units = ", ".join(f"{k} [{PARAMETER_UNITS[k]}]" if PARAMETER_UNITS[k] else k for k in missing)
+        raise ParameterError(f"{source}: missing key(s) {units}")
+    try:
+        return AxisParams(**data)
+    except ParameterError as exc:
+        raise ParameterError(f"{source}: {exc}") from None
+
+
+def load_params(path: str | Path | None = None) -> AxisParams:
+    """Load parameters from a TOML file, or the packaged default when ``path`` is None."""
+    if path is None:
+        text = resources.files(__package__).joinpath(DEFAULT_PARAMS_RESOURCE).read_text("utf-8")
+        source = f"default parameters ({DEFAULT_PARAMS_RESOURCE})"
+    else:
+        p = Path(path)
+        source = str(p)
+        try:
+            text = p.read_text("utf-8")
+        except FileNotFoundError:
+            raise ParameterError(f"parameter file {p} does not exist") from None
+        except OSError as exc:
+            raise ParameterError(f"parameter file {p} cannot be read: {exc.strerror}") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ParameterError(f"{source}: not valid TOML: {exc}") from None
+    return params_from_mapping(data, source)
+
+
+def default_params() -> AxisParams:
+    """The packaged default parameter set (an estimate; see docs/parameters.md)."""
+    return load_params(None)
+
+
+def params_to_toml(params: AxisParams) -> str:
+    """Serialise parameters to the TOML file format read by :func:`load_params`."""
+    lines = []
+    for key in PARAMETER_KEYS:
+        unit = PARAMETER_UNITS[key]
+        lines.append(f"{key} = {getattr(params, key)!r}  # {unit}")
+    lines.append(f'energy_accounting = "{params.energy_accounting.value}"')
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,38 @@
+"""SI units of every axis parameter, used in messages and docs."""
+
+from __future__ import annotations
+
+PARAMETER_UNITS: dict[str, str] = {
+    "m": "kg",
+    "J_m": "kg·m²",
+    "J_g": "kg·m²",
+    "J_p": "kg·m²",
+    "r": "m",
+    "i_r": "1",
+    "L": "m",
+    "a1": "N",
+    "a2": "N·s/m",
+    "a3": "N",
+    "a4": "s/m",
+    "v_max": "m/s",
+    "tau_max": "N·m",
+    "M_eq": "kg",
+    "energy_accounting": "",
+}
+
+PARAMETER_MEANINGS: dict[str, str] = {
+    "m": "cart (carriage + payload) mass",
+    "J_m": "motor rotor inertia",
+    "J_g": "gearbox inertia, referred to the motor side",
+    "J_p": "inertia of one pulley (two pulleys: driving and idler)",
+    "r": "pulley pitch radius",
+    "i_r": "gearbox reduction ratio (motor speed / pulley speed)",
+    "L": "usable stroke: positions lie in [0, L]",
+    "a1": "Coulomb friction force, a1·sign(v)",
+    "a2": "viscous friction coefficient, a2·v",
+    "a3": "low-speed friction amplitude, a3·atan(a4·v)",
+    "a4": "low-speed friction shape, a3·atan(a4·v)",
+    "v_max": "cart velocity limit",
+    "tau_max": "motor torque limit",
+    "energy_accounting": "how mechanical energy of a move is counted: signed, positive or absolute",
+}

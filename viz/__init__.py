@@ -1,0 +1,1 @@
+"""rerun views of the axis signals, live and from logs."""
