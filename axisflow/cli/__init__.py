@@ -21,6 +21,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "params_cmd",
     "plan_cmd",
     "experiment_cmd",
+    "bench_cmd",
 )
 
 EXIT_USER_ERROR = 2
