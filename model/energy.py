@@ -68,10 +68,14 @@ def move_energy(move: Move, params: AxisParams, accounting: EnergyAccounting | N
     # sign changes of P(u) split [0, 1] into pieces where g is smooth
     u = np.linspace(0.0, 1.0, _SCAN_POINTS)
     p = power(u)
+    # (the end points, where ẋ = 0, are left out; an interior sample exactly at zero is a cut itself)
     cuts = [0.0]
-    inner = np.sign(p[1:-1])
-    for i in np.nonzero(inner[:-1] * inner[1:] < 0)[0]:
-        cuts.append(brentq(lambda x: float(power(np.array(x))), u[i + 1], u[i + 2], xtol=1e-15))
+    sign = np.sign(p)
+    for i in range(1, _SCAN_POINTS - 2):
+        if sign[i] == 0.0:
+            cuts.append(float(u[i]))
+        elif sign[i] * sign[i + 1] < 0:
+            cuts.append(brentq(lambda x: float(power(np.array(x))), u[i], u[i + 1], xtol=1e-15))
     cuts.append(1.0)
     total = 0.0
     for lo, hi in pairwise(cuts):

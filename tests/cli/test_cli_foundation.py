@@ -1,0 +1,148 @@
+import json
+import subprocess
+import sys
+
+import pytest
+
+from axisflow.cli import main
+from axisflow.paper import PAPER_TABLE2
+
+PARAM_KEYS = [
+    "m",
+    "J_m",
+    "J_g",
+    "J_p",
+    "r",
+    "i_r",
+    "L",
+    "a1",
+    "a2",
+    "a3",
+    "a4",
+    "v_max",
+    "tau_max",
+    "M_eq",
+    "energy_accounting",
+]
+ROW_KEYS = {
+    "case",
+    "law",
+    "solver",
+    "omega",
+    "durations_s",
+    "total_time_s",
+    "energy_model_j",
+    "energy_measured_j",
+    "energy_error_pct",
+    "t_opt_ms_mean",
+    "t_opt_ms_std",
+    "max_violation",
+}
+
+
+def test_params_json_has_exactly_the_documented_keys(capsys):
+    assert main(["params", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert list(data) == PARAM_KEYS
+    assert data["i_r"] == 10.0 and data["L"] == 0.8
+
+
+def test_params_from_a_file(tmp_path, capsys):
+    main(["params", "--json"])
+    data = json.loads(capsys.readouterr().out)
+    data.pop("M_eq")
+    data["a1"] = 42.0
+    f = tmp_path / "axis.toml"
+    f.write_text("\n".join(f'{k} = "{v}"' if isinstance(v, str) else f"{k} = {v!r}" for k, v in data.items()))
+    assert main(["params", "--params", str(f), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["a1"] == 42.0
+
+
+def test_bad_parameter_file_is_a_one_line_error_without_traceback(tmp_path):
+    f = tmp_path / "bad.toml"
+    f.write_text("m = -3.0\n")
+    proc = subprocess.run(
+        [sys.executable, "-m", "axisflow", "params", "--params", str(f), "--json"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert proc.returncode == 2
+    assert "Traceback" not in proc.stderr
+    assert "missing key(s)" in proc.stderr and str(f) in proc.stderr
+    assert proc.stdout == ""
+
+
+def test_plan_rejects_a_move_outside_the_stroke(capsys):
+    assert main(["plan", "0.1", "0.95", "--json"]) == 2
+    err = capsys.readouterr().err
+    assert "x1_m = 0.95 m is outside the stroke [0, 0.8] m" in err
+
+
+def test_plan_rejects_omega_outside_0_1(capsys):
+    assert main(["plan", "0.1", "0.5", "--case", "min-time-energy", "--omega", "1.2"]) == 2
+    assert "omega = 1.2 is outside [0, 1]" in capsys.readouterr().err
+
+
+def test_plan_prints_a_result_object(capsys):
+    assert main(["plan", "0.1", "0.5", "--law", "poly7", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["status"] in {"converged", "stopped-at-cap"}
+    assert 0.1 <= out["duration_s"] <= 3.0
+    assert out["iterations"] <= 10
+
+
+def test_experiment_writes_the_documented_json(tmp_path, capsys):
+    out = tmp_path / "run"
+    assert main(["experiment", "--offline", "--out", str(out), "--waypoints", "7", "--seed", "3"]) == 0
+    data = json.loads((out / "table2.json").read_text())
+    assert set(data) == {"seed", "waypoints_m", "params", "rows"}
+    assert data["seed"] == 3 and len(data["waypoints_m"]) == 7
+    assert list(data["params"]) == PARAM_KEYS
+    assert [(r["case"], r["law"]) for r in data["rows"]] == list(PAPER_TABLE2)
+    for row in data["rows"]:
+        assert set(row) == ROW_KEYS
+        assert len(row["durations_s"]) == 6
+        assert row["total_time_s"] == pytest.approx(sum(row["durations_s"]))
+        assert row["energy_measured_j"] is None and row["energy_error_pct"] is None
+        assert row["omega"] == (0.9 if row["case"] == "min-time-energy" else None)
+    assert "| min-time | poly3 |" in (out / "table2.md").read_text()
+
+
+def test_same_seed_same_waypoints(tmp_path):
+    for name in ("a", "b"):
+        assert main(["experiment", "--offline", "--out", str(tmp_path / name), "--waypoints", "3"]) == 0
+    a = json.loads((tmp_path / "a" / "table2.json").read_text())
+    b = json.loads((tmp_path / "b" / "table2.json").read_text())
+    assert a["waypoints_m"] == b["waypoints_m"]
+
+
+def test_experiment_needs_offline_for_now(tmp_path, capsys):
+    assert main(["experiment", "--out", str(tmp_path)]) == 2
+    assert "--offline" in capsys.readouterr().err
+
+
+def test_experiment_into_a_file_path_fails_cleanly_and_writes_nothing(tmp_path, capsys):
+    target = tmp_path / "file"
+    target.write_text("keep me")
+    assert main(["experiment", "--offline", "--out", str(target), "--waypoints", "3"]) == 2
+    assert "exists and is not a directory" in capsys.readouterr().err
+    assert target.read_text() == "keep me"
+
+
+def test_every_subcommand_has_help():
+    for cmd in ("params", "plan", "experiment"):
+        with pytest.raises(SystemExit) as exc:
+            main([cmd, "--help"])
+        assert exc.value.code == 0
+
+
+@pytest.mark.slow
+def test_offline_table2_lands_within_ten_percent_of_the_paper(tmp_path):
+    """The default parameters were calibrated so that all twelve T and E_th figures land within ±10 %."""
+    assert main(["experiment", "--offline", "--out", str(tmp_path)]) == 0
+    data = json.loads((tmp_path / "table2.json").read_text())
+    for row in data["rows"]:
+        paper = PAPER_TABLE2[(row["case"], row["law"])]
+        assert row["total_time_s"] == pytest.approx(paper.total_time_s, rel=0.10), row["law"]
+        assert row["energy_model_j"] == pytest.approx(paper.energy_model_j, rel=0.10), row["law"]

@@ -1,0 +1,78 @@
+import math
+
+import numpy as np
+import pytest
+from axisflow.model import (
+    EnergyAccounting,
+    Move,
+    cart_force,
+    default_params,
+    move_energy,
+    polynomial_law,
+    trace_energy,
+)
+from axisflow.model.limits import execution_times
+
+LAWS = ["poly3", "poly5", "poly7"]
+
+
+def _friction_only(a1=0.0, a2=0.0, a3=0.0, a4=1.0, **kw):
+    # a negligible inertia, so only the friction terms act
+    return default_params().replace(m=1e-9, J_m=1e-15, J_g=1e-15, J_p=1e-15, a1=a1, a2=a2, a3=a3, a4=a4, **kw)
+
+
+@pytest.mark.parametrize("law", LAWS)
+@pytest.mark.parametrize("accounting", list(EnergyAccounting))
+def test_coulomb_and_viscous_energy_match_the_closed_form(law, accounting):
+    """Friction only: E = a1·|d| + a2·d²/T·∫s'² (friction power is never negative)."""
+    p = _friction_only(a1=37.0, a2=81.0)
+    move = Move(0.7, 0.15, 0.83, polynomial_law(law))
+    d, T = move.distance_m, move.duration_s
+    expected = 37.0 * abs(d) + 81.0 * d**2 / T * move.law.integral_of_squared_velocity()
+    assert move_energy(move, p, accounting) == pytest.approx(expected, rel=1e-10)
+
+
+@pytest.mark.parametrize("law", LAWS)
+def test_signed_energy_of_inertia_vanishes_and_positive_counts_peak_kinetic_energy(law):
+    """No friction: signed E = 0 (kinetic energy returned); positive E = ½·M·v_peak²; absolute = M·v_peak²."""
+    p = default_params().replace(a1=0.0, a2=0.0, a3=0.0)
+    move = Move(0.05, 0.75, 0.9, polynomial_law(law))
+    kinetic = 0.5 * p.M_eq * move.peak_velocity_m_s**2
+    assert move_energy(move, p, EnergyAccounting.SIGNED) == pytest.approx(0.0, abs=1e-9 * kinetic)
+    assert move_energy(move, p, EnergyAccounting.POSITIVE) == pytest.approx(kinetic, rel=1e-10)
+    assert move_energy(move, p, EnergyAccounting.ABSOLUTE) == pytest.approx(2 * kinetic, rel=1e-10)
+
+
+def test_atan_term_matches_independent_quadrature():
+    from scipy.integrate import quad
+
+    p = _friction_only(a3=15.0, a4=40.0)
+    move = Move(0.1, 0.5, 1.1, polynomial_law("poly5"))
+
+    def power(t):
+        v = float(move.sample(t).velocity_m_s)
+        return 15.0 * math.atan(40.0 * v) * v
+
+    ref, _ = quad(power, 0.0, move.duration_s, epsabs=1e-13, epsrel=1e-13, limit=200)
+    assert move_energy(move, p, EnergyAccounting.SIGNED) == pytest.approx(ref, rel=1e-9)
+
+
+@pytest.mark.parametrize("accounting", list(EnergyAccounting))
+def test_sampled_trace_energy_converges_to_the_move_energy(accounting):
+    p = default_params()
+    move = Move(0.6, 0.02, 0.7, polynomial_law("poly7"))
+    t = execution_times(move.duration_s, 20_000.0)
+    s = move.sample(t)
+    f = cart_force(s.velocity_m_s, s.acceleration_m_s2, p)
+    sampled = trace_energy(s.velocity_m_s, f, 1 / 20_000.0, accounting)
+    assert sampled == pytest.approx(move_energy(move, p, accounting), rel=1e-4)
+
+
+def test_positive_energy_lies_between_signed_and_absolute():
+    p = default_params()
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        a, b = rng.uniform(0, 0.8, 2)
+        move = Move(a, b, rng.uniform(0.2, 3.0), polynomial_law(str(rng.choice(LAWS))))
+        es, ep, ea = (move_energy(move, p, acc) for acc in EnergyAccounting)
+        assert es - 1e-9 <= ep <= ea + 1e-9

@@ -1,0 +1,30 @@
+import pytest
+from axisflow.model import Move, check_limits, default_params, execution_times, polynomial_law
+
+
+def test_execution_samples_are_1khz_and_include_the_end():
+    t = execution_times(0.0105)
+    assert t[0] == 0.0
+    assert t[1] == pytest.approx(0.001)
+    assert t[-1] == pytest.approx(0.0105)
+    assert len(t) == 12
+
+
+def test_velocity_exactly_at_the_limit_is_not_a_violation():
+    p = default_params().replace(tau_max=1e3)
+    law = polynomial_law("poly5")
+    d = 0.5
+    T = law.peak_velocity_factor * d / p.v_max  # peak exactly v_max at the midpoint sample t = T/2
+    T = round(T * 2000) / 2000  # make T/2 a whole millisecond so a sample sits on the peak
+    report = check_limits(Move(0.1, 0.1 + d, T, law), p)
+    assert report.peak_velocity_m_s == pytest.approx(law.peak_velocity_factor * d / T)
+    faster = check_limits(Move(0.1, 0.1 + d, T * 0.9, law), p)
+    assert faster.velocity_violation > 0.05
+    assert not faster.ok
+
+
+def test_torque_violation_is_relative_to_tau_max():
+    p = default_params()
+    report = check_limits(Move(0.0, 0.8, 0.15, polynomial_law("poly3")), p)
+    assert report.torque_violation == pytest.approx(report.peak_torque_nm / p.tau_max - 1.0)
+    assert report.max_violation >= report.torque_violation

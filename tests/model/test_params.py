@@ -1,0 +1,104 @@
+import json
+
+import pytest
+from axisflow.model import AxisParams, EnergyAccounting, ParameterError, default_params, load_params
+from axisflow.model.params import FILE_KEYS, params_to_toml
+
+JSON_KEYS = {
+    "m",
+    "J_m",
+    "J_g",
+    "J_p",
+    "r",
+    "i_r",
+    "L",
+    "a1",
+    "a2",
+    "a3",
+    "a4",
+    "v_max",
+    "tau_max",
+    "M_eq",
+    "energy_accounting",
+}
+
+
+def _toml(**overrides):
+    data = default_params().to_dict()
+    data.pop("M_eq")
+    data.update(overrides)
+    lines = []
+    for k, v in data.items():
+        if v is None:
+            continue
+        lines.append(f'{k} = "{v}"' if isinstance(v, str) else f"{k} = {v!r}")
+    return "\n".join(lines) + "\n"
+
+
+def test_default_has_the_paper_gear_ratio_and_stroke():
+    p = default_params()
+    assert p.i_r == 10.0
+    assert p.L == 0.8
+    assert p.energy_accounting is EnergyAccounting.POSITIVE
+
+
+def test_equivalent_mass_follows_eq_1():
+    p = default_params().replace(m=10.0, J_m=1e-4, J_g=2e-4, J_p=3e-4, r=0.02, i_r=10.0)
+    assert p.M_eq == pytest.approx(10.0 + ((1e-4 + 2e-4) * 100 + 2 * 3e-4) / 0.02**2)
+
+
+def test_json_keys_are_exactly_the_documented_ones():
+    data = default_params().to_dict()
+    assert set(data) == JSON_KEYS
+    json.dumps(data)  # JSON-ready
+
+
+def test_toml_round_trip(tmp_path):
+    p = default_params().replace(a1=12.5, energy_accounting="signed")
+    f = tmp_path / "p.toml"
+    f.write_text(params_to_toml(p))
+    assert load_params(f) == p
+
+
+@pytest.mark.parametrize(
+    ("overrides", "match"),
+    [
+        ({"mass": 3.0}, r"unknown key\(s\) mass"),
+        ({"a4": None}, r"missing key\(s\) a4 \[s/m\]"),
+        ({"m": -1.0}, r"m = -1.0 kg must be > 0 kg"),
+        ({"m": 0.0}, r"m = 0.0 kg must be > 0 kg"),
+        ({"r": 0.0}, r"r = 0.0 m must be > 0 m"),
+        ({"J_p": -1e-4}, r"J_p = -0.0001 kg·m² must be > 0"),
+        ({"v_max": 0.0}, r"v_max = 0.0 m/s must be > 0 m/s"),
+        ({"tau_max": -3.0}, r"tau_max = -3.0 N·m must be > 0 N·m"),
+        ({"L": 0.0}, r"L = 0.0 m must be > 0 m"),
+        ({"a2": -5.0}, r"a2 = -5.0 N·s/m must be >= 0"),
+        ({"energy_accounting": "regen"}, r"energy_accounting = 'regen' is not one of"),
+        ({"m": "heavy"}, r"m must be a number in kg"),
+    ],
+)
+def test_bad_parameter_files_are_rejected_with_key_value_and_unit(tmp_path, overrides, match):
+    f = tmp_path / "bad.toml"
+    f.write_text(_toml(**overrides))
+    with pytest.raises(ParameterError, match=match):
+        load_params(f)
+
+
+def test_non_finite_value_is_rejected(tmp_path):
+    f = tmp_path / "nan.toml"
+    f.write_text(_toml().replace("a1 = ", "a1 = nan #"))
+    with pytest.raises(ParameterError, match="a1 = nan N is not finite"):
+        load_params(f)
+
+
+def test_missing_and_malformed_files(tmp_path):
+    with pytest.raises(ParameterError, match="does not exist"):
+        load_params(tmp_path / "nope.toml")
+    f = tmp_path / "broken.toml"
+    f.write_text("m = = 3\n")
+    with pytest.raises(ParameterError, match="not valid TOML"):
+        load_params(f)
+
+
+def test_file_keys_cover_every_field():
+    assert set(FILE_KEYS) == set(AxisParams.__dataclass_fields__)
