@@ -22,6 +22,10 @@ COMMAND_MODULES: tuple[str, ...] = (
     "plan_cmd",
     "experiment_cmd",
     "bench_cmd",
+    "bridge_cmd",
+    "record_cmd",
+    "replay_cmd",
+    "recover_cmd",
 )
 
 EXIT_USER_ERROR = 2

@@ -1,0 +1,34 @@
+"""The exception root of acquisition.
+
+Every user-caused acquisition error is an :class:`AcquisitionError` (itself an
+:class:`axisflow.model.AxisflowError`), so the command line prints it without a traceback. The
+subclasses also derive from the matching builtin, so ``except ValueError`` / ``except OSError`` work.
+"""
+
+from __future__ import annotations
+
+from ..model import AxisflowError
+
+
+class AcquisitionError(AxisflowError):
+    """Root of the errors raised by :mod:`axisflow.acquisition`."""
+
+
+class WireError(AcquisitionError, ValueError):
+    """Bytes on the wire or on disk do not decode to the expected record (truncated, wrong type)."""
+
+
+class PlantError(AcquisitionError, ValueError):
+    """A plant file or simulated-axis setting is invalid (unknown key, bad value, wrong range)."""
+
+
+class MoveRejectedError(AcquisitionError, ValueError):
+    """A move sent to the drive was refused (outside [0, L], above the limits, discontinuous)."""
+
+
+class ZenohConfigError(AcquisitionError, ValueError):
+    """The Zenoh options or configuration file are invalid."""
+
+
+class RecordingError(AcquisitionError, OSError):
+    """An MCAP recording cannot be written, read or recovered."""

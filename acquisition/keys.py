@@ -1,0 +1,78 @@
+"""Zenoh key expressions of the wire contract and their MCAP topics.
+
+Per axis, under a configurable prefix (default ``axisflow``):
+
+* ``<prefix>/<axis>/state`` — measured samples, ``sensor_msgs/msg/JointState`` at 1 kHz;
+* ``<prefix>/<axis>/setpoint`` — what the drive is commanded each tick (same type and joints);
+* ``<prefix>/<axis>/trajectory`` — moves sent to the drive, ``axisflow_msgs/msg/Move``;
+* ``<prefix>/<axis>/event`` — the bridge's events (accepted/rejected moves), ``std_msgs/msg/String``.
+
+The MCAP topic of a key is ``/`` + the key (``/axisflow/a0/state``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .errors import AcquisitionError
+
+DEFAULT_PREFIX = "axisflow"
+DEFAULT_AXIS = "a0"
+_FORBIDDEN = set("*$#?/ ")
+
+
+class KeyExprError(AcquisitionError, ValueError):
+    """An axis name or key prefix is not a valid Zenoh key chunk."""
+
+
+def _check_chunk(kind: str, text: str, allow_slash: bool) -> None:
+    bad = sorted(c for c in set(text) if c in _FORBIDDEN and not (allow_slash and c == "/"))
+    if not text or bad or text.startswith("/") or text.endswith("/") or "//" in text:
+        raise KeyExprError(
+            f"{kind} {text!r} is not a valid key-expression part (non-empty, no leading/trailing or "
+            f"double '/', none of {' '.join(sorted(_FORBIDDEN - {' '}))} or spaces; offending: {bad})"
+        )
+
+
+@dataclass(frozen=True)
+class AxisKeys:
+    """The key expressions of one axis."""
+
+    axis: str = DEFAULT_AXIS
+    prefix: str = DEFAULT_PREFIX
+
+    def __post_init__(self) -> None:
+        _check_chunk("axis name", self.axis, allow_slash=False)
+        _check_chunk("key prefix", self.prefix, allow_slash=True)
+
+    @property
+    def state(self) -> str:
+        return f"{self.prefix}/{self.axis}/state"
+
+    @property
+    def setpoint(self) -> str:
+        return f"{self.prefix}/{self.axis}/setpoint"
+
+    @property
+    def trajectory(self) -> str:
+        return f"{self.prefix}/{self.axis}/trajectory"
+
+    @property
+    def event(self) -> str:
+        return f"{self.prefix}/{self.axis}/event"
+
+
+def all_keys(prefix: str = DEFAULT_PREFIX) -> str:
+    """The key expression matching every key under ``prefix`` (``axisflow/**``)."""
+    _check_chunk("key prefix", prefix, allow_slash=True)
+    return f"{prefix}/**"
+
+
+def topic_for_key(key: str) -> str:
+    """MCAP topic of a key expression: ``/`` + key."""
+    return "/" + key
+
+
+def key_for_topic(topic: str) -> str:
+    """Key expression of an MCAP topic (the inverse of :func:`topic_for_key`)."""
+    return topic[1:] if topic.startswith("/") else topic

@@ -1,0 +1,261 @@
+"""The typed records of the wire contract and their ROS 2 CDR encoding.
+
+Three message types cross Zenoh and land in MCAP, each with its ``ros2msg`` schema text (the
+definition with its dependencies, as rosbag2 stores it) so that any tool decodes them:
+
+* ``sensor_msgs/msg/JointState`` — :class:`JointState`; the 1 kHz samples and setpoints of an axis,
+  with the two joints of :class:`AxisSample` (``carriage``: m, m/s, N; ``motor``: rad, rad/s, N·m).
+* ``axisflow_msgs/msg/Move`` — :class:`MoveCommand`; one rest-to-rest move sent to a drive.
+* ``std_msgs/msg/String`` — :class:`BridgeEvent`; human-readable events of a bridge (rejections).
+
+Time stamps are integer nanoseconds since the Unix epoch (``builtin_interfaces/Time`` on the wire).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .cdr import CdrReader, CdrWriter
+from .errors import WireError
+
+JOINT_STATE_TYPE = "sensor_msgs/msg/JointState"
+MOVE_TYPE = "axisflow_msgs/msg/Move"
+STRING_TYPE = "std_msgs/msg/String"
+
+_SEPARATOR = "=" * 80
+_TIME_DEF = "int32 sec\nuint32 nanosec\n"
+_HEADER_DEF = "builtin_interfaces/Time stamp\nstring frame_id\n"
+
+
+def _with_dependencies(main: str, *deps: tuple[str, str]) -> str:
+    parts = [main.rstrip("\n")]
+    for name, text in deps:
+        parts.append(f"{_SEPARATOR}\nMSG: {name}\n{text.rstrip(chr(10))}")
+    return "\n".join(parts) + "\n"
+
+
+JOINT_STATE_SCHEMA = _with_dependencies(
+    "std_msgs/Header header\nstring[] name\nfloat64[] position\nfloat64[] velocity\nfloat64[] effort\n",
+    ("std_msgs/Header", _HEADER_DEF),
+    ("builtin_interfaces/Time", _TIME_DEF),
+)
+
+MOVE_SCHEMA = _with_dependencies(
+    "# A rest-to-rest move of a linear axis: x(t) = x0 + (x1 - x0)·s((t - start)/duration), s = law.\n"
+    "# header.stamp: when the move was sent (ns since the Unix epoch); header.frame_id: the axis name.\n"
+    "std_msgs/Header header\n"
+    "# identifier chosen by the sender, echoed in the bridge's events\n"
+    "uint64 move_id\n"
+    "# drive time at which the move starts; 0 s 0 ns = append: start right after the queued moves\n"
+    "builtin_interfaces/Time start\n"
+    "# motion law: poly3, poly5 or poly7\n"
+    "string law\n"
+    "float64 start_position_m\n"
+    "float64 end_position_m\n"
+    "float64 duration_s\n",
+    ("std_msgs/Header", _HEADER_DEF),
+    ("builtin_interfaces/Time", _TIME_DEF),
+)
+
+STRING_SCHEMA = "string data\n"
+
+SCHEMAS: dict[str, str] = {
+    JOINT_STATE_TYPE: JOINT_STATE_SCHEMA,
+    MOVE_TYPE: MOVE_SCHEMA,
+    STRING_TYPE: STRING_SCHEMA,
+}
+"""ros2msg schema text by ROS 2 type name, for every type axisflow publishes."""
+
+CARRIAGE_JOINT = "carriage"
+MOTOR_JOINT = "motor"
+AXIS_JOINTS = (CARRIAGE_JOINT, MOTOR_JOINT)
+_NS_PER_S = 1_000_000_000
+
+
+def _write_time(w: CdrWriter, t_ns: int) -> None:
+    sec, nanosec = divmod(t_ns, _NS_PER_S)
+    if not -(2**31) <= sec < 2**31:
+        raise WireError(f"time stamp {t_ns} ns is outside the int32 seconds range of builtin_interfaces/Time")
+    w.int32(sec)
+    w.uint32(nanosec)
+
+
+def _read_time(r: CdrReader) -> int:
+    sec = r.int32()
+    nanosec = r.uint32()
+    if nanosec >= _NS_PER_S:
+        raise WireError(f"builtin_interfaces/Time nanosec = {nanosec} must be < {_NS_PER_S}")
+    return sec * _NS_PER_S + nanosec
+
+
+@dataclass(frozen=True)
+class JointState:
+    """``sensor_msgs/msg/JointState``: named joints with position, velocity and effort arrays."""
+
+    stamp_ns: int
+    frame_id: str
+    name: tuple[str, ...]
+    position: tuple[float, ...]
+    velocity: tuple[float, ...]
+    effort: tuple[float, ...]
+
+    def encode(self) -> bytes:
+        """ROS 2 CDR bytes (with the CDR_LE encapsulation header)."""
+        w = CdrWriter()
+        _write_time(w, self.stamp_ns)
+        w.string(self.frame_id)
+        w.string_sequence(self.name)
+        w.float64_sequence(self.position)
+        w.float64_sequence(self.velocity)
+        w.float64_sequence(self.effort)
+        return w.to_bytes()
+
+    @classmethod
+    def decode(cls, data: bytes | bytearray | memoryview) -> JointState:
+        r = CdrReader(data, JOINT_STATE_TYPE)
+        stamp_ns = _read_time(r)
+        return cls(
+            stamp_ns=stamp_ns,
+            frame_id=r.string(),
+            name=r.string_sequence(),
+            position=r.float64_sequence(),
+            velocity=r.float64_sequence(),
+            effort=r.float64_sequence(),
+        )
+
+
+@dataclass(frozen=True)
+class AxisSample:
+    """One tick of an axis as the two-joint JointState contract.
+
+    ``carriage``: position [m], velocity [m/s], effort = belt force on the cart [N];
+    ``motor``: position [rad], velocity [rad/s], effort = motor torque [N·m].
+    For a setpoint the efforts are the feed-forward force and torque.
+    """
+
+    stamp_ns: int
+    axis: str
+    position_m: float
+    velocity_m_s: float
+    force_n: float
+    motor_angle_rad: float
+    motor_speed_rad_s: float
+    motor_torque_nm: float
+
+    def to_joint_state(self) -> JointState:
+        return JointState(
+            stamp_ns=self.stamp_ns,
+            frame_id=self.axis,
+            name=AXIS_JOINTS,
+            position=(self.position_m, self.motor_angle_rad),
+            velocity=(self.velocity_m_s, self.motor_speed_rad_s),
+            effort=(self.force_n, self.motor_torque_nm),
+        )
+
+    def encode(self) -> bytes:
+        return self.to_joint_state().encode()
+
+    @classmethod
+    def from_joint_state(cls, js: JointState) -> AxisSample:
+        if js.name != AXIS_JOINTS:
+            raise WireError(
+                f"JointState joints {list(js.name)} are not the axis contract {list(AXIS_JOINTS)}"
+            )
+        for field_name in ("position", "velocity", "effort"):
+            n = len(getattr(js, field_name))
+            if n != 2:
+                raise WireError(f"JointState {field_name} has {n} values, the axis contract needs 2")
+        return cls(
+            stamp_ns=js.stamp_ns,
+            axis=js.frame_id,
+            position_m=js.position[0],
+            velocity_m_s=js.velocity[0],
+            force_n=js.effort[0],
+            motor_angle_rad=js.position[1],
+            motor_speed_rad_s=js.velocity[1],
+            motor_torque_nm=js.effort[1],
+        )
+
+    @classmethod
+    def decode(cls, data: bytes | bytearray | memoryview) -> AxisSample:
+        return cls.from_joint_state(JointState.decode(data))
+
+
+APPEND = 0
+"""``MoveCommand.start_ns`` value meaning: start right after the moves already queued."""
+
+
+@dataclass(frozen=True)
+class MoveCommand:
+    """``axisflow_msgs/msg/Move``: one rest-to-rest move for a drive (see :data:`MOVE_SCHEMA`)."""
+
+    stamp_ns: int
+    axis: str
+    move_id: int
+    start_ns: int
+    """drive time of the first sample of the move [ns]; :data:`APPEND` (0) = after the queued moves"""
+    law: str
+    start_position_m: float
+    end_position_m: float
+    duration_s: float
+
+    def __post_init__(self) -> None:
+        for name in ("start_position_m", "end_position_m", "duration_s"):
+            value = getattr(self, name)
+            if not math.isfinite(value):
+                raise WireError(f"move {self.move_id}: {name} = {value} is not finite")
+        if self.start_ns < 0:
+            raise WireError(f"move {self.move_id}: start_ns = {self.start_ns} ns must be >= 0 (0 = append)")
+        if not 0 <= self.move_id < 2**64:
+            raise WireError(f"move_id = {self.move_id} must be in [0, 2**64)")
+
+    @property
+    def appends(self) -> bool:
+        return self.start_ns == APPEND
+
+    def encode(self) -> bytes:
+        w = CdrWriter()
+        _write_time(w, self.stamp_ns)
+        w.string(self.axis)
+        w.uint64(self.move_id)
+        _write_time(w, self.start_ns)
+        w.string(self.law)
+        w.float64(self.start_position_m)
+        w.float64(self.end_position_m)
+        w.float64(self.duration_s)
+        return w.to_bytes()
+
+    @classmethod
+    def decode(cls, data: bytes | bytearray | memoryview) -> MoveCommand:
+        r = CdrReader(data, MOVE_TYPE)
+        stamp_ns = _read_time(r)
+        axis = r.string()
+        move_id = r.uint64()
+        start_ns = _read_time(r)
+        return cls(
+            stamp_ns=stamp_ns,
+            axis=axis,
+            move_id=move_id,
+            start_ns=start_ns,
+            law=r.string(),
+            start_position_m=r.float64(),
+            end_position_m=r.float64(),
+            duration_s=r.float64(),
+        )
+
+
+@dataclass(frozen=True)
+class BridgeEvent:
+    """``std_msgs/msg/String``: a human-readable event of a bridge (e.g. why a move was rejected)."""
+
+    text: str
+
+    def encode(self) -> bytes:
+        w = CdrWriter()
+        w.string(self.text)
+        return w.to_bytes()
+
+    @classmethod
+    def decode(cls, data: bytes | bytearray | memoryview) -> BridgeEvent:
+        return cls(CdrReader(data, STRING_TYPE).string())

@@ -1,0 +1,68 @@
+"""Sending moves to a drive bridge: the small typed API the planner (or anyone) calls.
+
+    with open_session(ZenohOptions()) as session, MoveSender(session, AxisKeys("a0")) as sender:
+        sender.send(0.1, 0.5, 0.8, law="poly5")            # appended after the queued moves
+        sender.send(0.5, 0.2, 0.6, start_ns=t_ns)          # starts at drive time t_ns
+
+Moves go out on ``<prefix>/<axis>/trajectory`` as ``axisflow_msgs/msg/Move`` with command priority and
+blocking congestion control, numbered so the bridge counts any that were lost. The bridge answers on
+``<prefix>/<axis>/event`` ("accepted move N…" / "rejected move N: reason").
+"""
+
+from __future__ import annotations
+
+import time
+
+import zenoh
+
+from .keys import AxisKeys
+from .messages import APPEND, MOVE_TYPE, MoveCommand
+from .publisher import SequencedPublisher, Traffic, wait_for_subscribers
+
+
+class MoveSender:
+    """Publishes :class:`MoveCommand` s for one axis."""
+
+    def __init__(self, session: zenoh.Session, keys: AxisKeys) -> None:
+        self.keys = keys
+        self._pub = SequencedPublisher(session, keys.trajectory, MOVE_TYPE, Traffic.COMMAND)
+        self._next_id = 1
+
+    def wait_for_bridge(self, timeout_s: float) -> bool:
+        """True once a bridge subscribes to the trajectory key (False after ``timeout_s``)."""
+        return wait_for_subscribers([self._pub], timeout_s)
+
+    def send(
+        self,
+        start_position_m: float,
+        end_position_m: float,
+        duration_s: float,
+        law: str = "poly5",
+        start_ns: int | None = None,
+        move_id: int | None = None,
+    ) -> MoveCommand:
+        """Publish one move; ``start_ns`` None appends it after the moves already queued."""
+        if move_id is None:
+            move_id = self._next_id
+        self._next_id = move_id + 1
+        cmd = MoveCommand(
+            stamp_ns=time.time_ns(),
+            axis=self.keys.axis,
+            move_id=move_id,
+            start_ns=APPEND if start_ns is None else start_ns,
+            law=law,
+            start_position_m=float(start_position_m),
+            end_position_m=float(end_position_m),
+            duration_s=float(duration_s),
+        )
+        self._pub.put(cmd.encode(), cmd.stamp_ns)
+        return cmd
+
+    def close(self) -> None:
+        self._pub.undeclare()
+
+    def __enter__(self) -> MoveSender:
+        return self
+
+    def __exit__(self, *_exc: object) -> None:
+        self.close()

@@ -1,0 +1,246 @@
+"""The recorder: every Zenoh key matching an expression into one (or several, split) MCAP files.
+
+Hot path. The subscriber hands samples to a Zenoh FIFO channel (filled on Zenoh's thread; when full
+it applies back-pressure instead of dropping). The recording thread drains it and, per sample, writes
+the payload bytes exactly as received (no decode, no re-encode) to the channel of topic ``/`` + key,
+with ``log_time`` = the time of writing and ``publish_time``/``sequence`` from the sender's
+attachment (:mod:`~axisflow.acquisition.attachment`). A channel and its ``ros2msg`` schema are
+registered the first time a key appears; the type comes from the sample's ``application/cdr;<type>``
+encoding.
+
+Crash safety. About once a second (``flush_interval_s``) the open chunk is written and fsynced, so a
+SIGKILL loses at most the last second; the file on disk stays readable by a streaming read and
+``axisflow recover`` rebuilds it into a complete one. SIGINT/SIGTERM (set ``stop``) drain the
+channel, then write the summary and footer: nothing received is lost.
+
+Splitting: with ``split_bytes`` or ``split_duration_s`` the recording rolls over to
+``<stem>_0000.mcap``, ``<stem>_0001.mcap``, … at the first flush past the limit.
+
+Counting. Per topic: messages, first/last log time, and messages missed, from the gaps in the
+sequence numbers of each publisher (key, publisher id); publish→write latency in a histogram.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import zenoh
+
+from .attachment import unpack_attachment
+from .errors import RecordingError
+from .histogram import DurationHistogram, DurationStats
+from .keys import all_keys, topic_for_key
+from .mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE, Ros2McapWriter
+from .publisher import type_of_encoding
+
+log = logging.getLogger(__name__)
+
+DEFAULT_QUEUE_CAPACITY = 1 << 16
+_IDLE_SLEEP_S = 0.0005
+
+
+@dataclass(frozen=True)
+class RecorderConfig:
+    output: Path
+    keys: str = field(default_factory=all_keys)
+    duration_s: float | None = None
+    compression: str = "zstd"
+    flush_interval_s: float = 1.0
+    split_bytes: int | None = None
+    split_duration_s: float | None = None
+    chunk_size: int = DEFAULT_CHUNK_SIZE
+    queue_capacity: int = DEFAULT_QUEUE_CAPACITY
+
+    def __post_init__(self) -> None:
+        if self.compression not in COMPRESSIONS:
+            raise RecordingError(f"compression {self.compression!r} is not one of {', '.join(COMPRESSIONS)}")
+        for name, value, unit in (
+            ("duration", self.duration_s, "s"),
+            ("flush interval", self.flush_interval_s, "s"),
+            ("split size", self.split_bytes, "bytes"),
+            ("split duration", self.split_duration_s, "s"),
+        ):
+            if value is not None and not value > 0:
+                raise RecordingError(f"recorder {name} = {value} {unit} must be > 0 {unit}")
+        if Path(self.output).suffix != ".mcap":
+            raise RecordingError(f"output {self.output} must end in .mcap")
+        parent = Path(self.output).parent
+        if not parent.is_dir():
+            raise RecordingError(f"output directory {parent} does not exist")
+
+
+@dataclass
+class TopicStats:
+    topic: str
+    messages: int = 0
+    missed: int = 0
+    first_log_ns: int = 0
+    last_log_ns: int = 0
+
+    @property
+    def duration_s(self) -> float:
+        return (self.last_log_ns - self.first_log_ns) * 1e-9
+
+    @property
+    def rate_hz(self) -> float:
+        return (self.messages - 1) / self.duration_s if self.messages > 1 and self.duration_s > 0 else 0.0
+
+
+@dataclass
+class RecordSummary:
+    files: list[Path] = field(default_factory=list)
+    topics: dict[str, TopicStats] = field(default_factory=dict)
+    wall_time_s: float = 0.0
+    latency: DurationStats | None = None
+    """publish (attachment stamp) → write [µs]"""
+
+    @property
+    def messages(self) -> int:
+        return sum(t.messages for t in self.topics.values())
+
+    @property
+    def missed(self) -> int:
+        return sum(t.missed for t in self.topics.values())
+
+    def format(self) -> str:
+        lines = [
+            f"recorded {self.messages} messages on {len(self.topics)} topics in {self.wall_time_s:.3f} s "
+            f"to {', '.join(str(f) for f in self.files)}; missed {self.missed}",
+            f"  {'topic':<40} {'messages':>9} {'duration s':>10} {'rate Hz':>9} {'missed':>7}",
+        ]
+        for t in sorted(self.topics.values(), key=lambda t: t.topic):
+            lines.append(
+                f"  {t.topic:<40} {t.messages:>9} {t.duration_s:>10.3f} {t.rate_hz:>9.1f} {t.missed:>7}"
+            )
+        if self.latency is not None and self.latency.count:
+            lines.append(
+                f"  publish→write latency: p50 {self.latency.p50_us:.0f} µs, p99 {self.latency.p99_us:.0f} µs"
+            )
+        return "\n".join(lines)
+
+    def to_dict(self) -> dict[str, object]:
+        return {
+            "files": [str(f) for f in self.files],
+            "messages": self.messages,
+            "missed": self.missed,
+            "wall_time_s": self.wall_time_s,
+            "latency": self.latency.to_dict() if self.latency else None,
+            "topics": {
+                t.topic: {
+                    "messages": t.messages,
+                    "missed": t.missed,
+                    "duration_s": t.duration_s,
+                    "rate_hz": t.rate_hz,
+                }
+                for t in self.topics.values()
+            },
+        }
+
+
+def split_path(output: Path, index: int) -> Path:
+    return output.with_name(f"{output.stem}_{index:04d}{output.suffix}")
+
+
+class Recorder:
+    """Records ``config.keys`` from a session until stopped (see the module docstring)."""
+
+    def __init__(self, config: RecorderConfig) -> None:
+        self.config = config
+        self.summary = RecordSummary()
+        self._split = config.split_bytes is not None or config.split_duration_s is not None
+        self._file_index = 0
+        self._writer: Ros2McapWriter | None = None
+        self._file_started = 0.0
+        self._last_seq: dict[tuple[str, bytes], int] = {}
+        self._latency = DurationHistogram()
+        self.ready = threading.Event()
+        """set once the subscriber is declared"""
+
+    def _open_next(self) -> Ros2McapWriter:
+        path = split_path(self.config.output, self._file_index) if self._split else self.config.output
+        self._file_index += 1
+        writer = Ros2McapWriter(path, self.config.compression, self.config.chunk_size)
+        self.summary.files.append(path)
+        self._file_started = time.monotonic()
+        return writer
+
+    def _maybe_split(self) -> None:
+        c = self.config
+        assert self._writer is not None
+        too_big = c.split_bytes is not None and self._writer.bytes_written >= c.split_bytes
+        too_long = (
+            c.split_duration_s is not None and time.monotonic() - self._file_started >= c.split_duration_s
+        )
+        if too_big or too_long:
+            self._writer.finish()
+            self._writer = self._open_next()
+
+    def _write(self, sample: zenoh.Sample) -> None:
+        writer = self._writer
+        assert writer is not None
+        now = time.time_ns()
+        key = str(sample.key_expr)
+        topic = topic_for_key(key)
+        channel_id = writer.channels.get(topic)
+        if channel_id is None:
+            channel_id = writer.channel_for(topic, type_of_encoding(sample.encoding))
+        stats = self.summary.topics.get(topic)
+        if stats is None:
+            stats = self.summary.topics[topic] = TopicStats(topic, first_log_ns=now)
+        att = sample.attachment
+        parsed = unpack_attachment(att.to_bytes()) if att is not None else None
+        if parsed is not None:
+            seq, stamp, gid = parsed
+            last = self._last_seq.get((topic, gid))
+            if last is not None and seq > last + 1:
+                stats.missed += seq - last - 1
+            self._last_seq[(topic, gid)] = seq
+            self._latency.add_ns(now - stamp)
+        else:
+            seq, stamp = 0, now
+        writer.add(channel_id, now, stamp, seq, sample.payload.to_bytes())
+        stats.messages += 1
+        stats.last_log_ns = now
+
+    def run(self, session: zenoh.Session, stop: threading.Event | None = None) -> RecordSummary:
+        """Record until ``stop`` is set or ``duration_s`` has passed; returns the summary."""
+        stop = stop or threading.Event()
+        c = self.config
+        t0 = time.monotonic()
+        deadline = None if c.duration_s is None else t0 + c.duration_s
+        next_flush = t0 + c.flush_interval_s
+        self._writer = self._open_next()
+        try:
+            with session.declare_subscriber(c.keys, zenoh.handlers.FifoChannel(c.queue_capacity)) as sub:
+                self.ready.set()
+                while True:
+                    sample = sub.try_recv()
+                    if sample is not None:
+                        self._write(sample)
+                        # drain a batch before looking at the clock
+                        for _ in range(255):
+                            sample = sub.try_recv()
+                            if sample is None:
+                                break
+                            self._write(sample)
+                    now = time.monotonic()
+                    if now >= next_flush:
+                        self._writer.flush()
+                        next_flush = now + c.flush_interval_s
+                        if self._split:
+                            self._maybe_split()
+                    if stop.is_set() or (deadline is not None and now >= deadline):
+                        while (sample := sub.try_recv()) is not None:
+                            self._write(sample)
+                        break
+                    if sample is None:
+                        time.sleep(_IDLE_SLEEP_S)
+        finally:
+            self._writer.finish()
+            self.summary.wall_time_s = time.monotonic() - t0
+            self.summary.latency = self._latency.stats()
+        return self.summary

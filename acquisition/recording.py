@@ -1,0 +1,77 @@
+"""Reading a recording, complete or truncated by a crash.
+
+A complete MCAP file (with summary and footer) is read through its index. A file whose writer was
+killed has no footer; :func:`iter_recording` then falls back to a streaming read, which returns every
+message up to the last complete chunk (with the recorder's once-a-second flush: all but at most the
+last second) and stops there.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+
+from mcap.exceptions import McapError
+from mcap.reader import make_reader
+from mcap.records import Channel, Message, Schema
+from mcap.stream_reader import StreamReader
+
+from .errors import RecordingError
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class RecordedMessage:
+    schema: Schema | None
+    channel: Channel
+    message: Message
+
+
+def is_complete(path: str | Path) -> bool:
+    """True if the file has a readable summary/footer (what a clean finish writes)."""
+    try:
+        with open(path, "rb") as fh:
+            make_reader(fh).get_summary()
+    except (McapError, OSError, ValueError, EOFError):
+        return False
+    return True
+
+
+def iter_recording(path: str | Path, complete_only: bool = False) -> Iterator[RecordedMessage]:
+    """Messages of a recording in file order (truncated files: up to the last complete chunk)."""
+    p = Path(path)
+    if not p.is_file():
+        raise RecordingError(f"recording {p} does not exist")
+    if is_complete(p):
+        with open(p, "rb") as fh:
+            for schema, channel, message in make_reader(fh).iter_messages(log_time_order=True):
+                yield RecordedMessage(schema, channel, message)
+        return
+    if complete_only:
+        raise RecordingError(f"recording {p} has no summary/footer (run `axisflow recover {p}`)")
+    yield from _stream(p)
+
+
+def _stream(path: Path) -> Iterator[RecordedMessage]:
+    schemas: dict[int, Schema] = {}
+    channels: dict[int, Channel] = {}
+    with open(path, "rb") as fh:
+        reader = StreamReader(fh, emit_chunks=False)
+        try:
+            for record in reader.records:
+                if isinstance(record, Schema):
+                    schemas[record.id] = record
+                elif isinstance(record, Channel):
+                    channels[record.id] = record
+                elif isinstance(record, Message):
+                    channel = channels.get(record.channel_id)
+                    if channel is None:
+                        continue
+                    yield RecordedMessage(schemas.get(channel.schema_id), channel, record)
+        except (McapError, EOFError, ValueError) as exc:
+            log.info("%s: streaming read stopped at the truncation: %s", path, exc)
+        except Exception as exc:  # the stream reader may fail in other ways on a cut-off record
+            log.info("%s: streaming read stopped at the truncation (%s: %s)", path, type(exc).__name__, exc)

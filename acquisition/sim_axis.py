@@ -1,0 +1,248 @@
+"""The simulated axis: eq. (1) integrated at several kHz behind a simulated 1 kHz drive.
+
+The plant has its own "true" parameters (a plant file, :data:`DEFAULT_PLANT_RESOURCE` by default),
+which differ from the nominal ones the drive's controller and feed-forward use. Per 1 ms tick:
+
+1. the drive measures: the pulley encoder is quantised to ``counts_per_rev`` counts per pulley
+   revolution (default 2^17: 2π·0.03 m/131072 = 1.438 µm of cart travel per count); the velocity is
+   the encoder difference over the tick through a first-order low-pass (``velocity_filter_hz``);
+   the motor torque is the applied torque plus white Gaussian noise (``noise_std_nm``, seeded);
+2. the controller computes the force command
+   ``F = F_ff + Kp·(x_ref − x_meas) + Kd·(v_ref − v_meas)`` with ``Kp = M_eq·ω²``,
+   ``Kd = 2ζω·M_eq`` (nominal M_eq, ω = 2π·bandwidth_hz) and the torque ``τ = F·r/i_r``, saturated
+   at the plant's ``tau_max``;
+3. the plant integrates ``M_eq·ẍ = τ·i_r/r − a1·sign(ẋ) − a2·ẋ − a3·atan(a4·ẋ)`` (true parameters)
+   with ``substeps`` semi-implicit Euler steps. Friction is Karnopp-style at rest: the cart sticks
+   while |F| ≤ a1 and the velocity is clamped to 0 when it would change sign within a step.
+   The stroke ends at 0 and L are hard stops (position clamped, velocity zeroed).
+"""
+
+from __future__ import annotations
+
+import math
+import random
+import tomllib
+from dataclasses import dataclass, fields
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from ..model import AxisflowError, AxisParams
+from ..model.params import params_from_mapping
+from .drive import DRIVE_PERIOD_NS, Setpoint
+from .errors import PlantError
+from .messages import AxisSample
+
+DEFAULT_PLANT_RESOURCE = "default_plant.toml"
+
+
+@dataclass(frozen=True)
+class EncoderConfig:
+    counts_per_rev: int = 131072
+    """pulley encoder counts per revolution"""
+    velocity_filter_hz: float = 500.0
+    """cut-off of the first-order low-pass on the encoder velocity [Hz]"""
+
+
+@dataclass(frozen=True)
+class TorqueSensorConfig:
+    noise_std_nm: float = 0.01
+    """standard deviation of the torque-measurement noise [N·m]"""
+    seed: int = 1
+
+
+@dataclass(frozen=True)
+class ControllerConfig:
+    bandwidth_hz: float = 20.0
+    """closed-loop natural frequency of the position loop [Hz]"""
+    damping: float = 1.0
+    """damping ratio ζ [-]"""
+
+
+@dataclass(frozen=True)
+class SimulationConfig:
+    substeps: int = 4
+    """integration steps per 1 ms tick"""
+    initial_position_m: float = 0.0
+
+
+@dataclass(frozen=True)
+class PlantConfig:
+    """A plant file: the true axis and the simulated drive's sensors and controller."""
+
+    axis: AxisParams
+    encoder: EncoderConfig
+    torque_sensor: TorqueSensorConfig
+    controller: ControllerConfig
+    simulation: SimulationConfig
+
+    def __post_init__(self) -> None:
+        checks = (
+            ("encoder.counts_per_rev", self.encoder.counts_per_rev, 1, "counts"),
+            ("encoder.velocity_filter_hz", self.encoder.velocity_filter_hz, 1e-9, "Hz"),
+            ("torque_sensor.noise_std_nm", self.torque_sensor.noise_std_nm, 0.0, "N·m"),
+            ("controller.bandwidth_hz", self.controller.bandwidth_hz, 1e-9, "Hz"),
+            ("controller.damping", self.controller.damping, 0.0, ""),
+            ("simulation.substeps", self.simulation.substeps, 1, "steps"),
+        )
+        for name, value, lower, unit in checks:
+            if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+                raise PlantError(f"plant {name} = {value!r} must be a finite number")
+            if value < lower:
+                raise PlantError(f"plant {name} = {value} {unit} must be >= {lower} {unit}")
+        x0 = self.simulation.initial_position_m
+        if not 0.0 <= x0 <= self.axis.L:
+            raise PlantError(f"plant simulation.initial_position_m = {x0} m is outside [0, {self.axis.L}] m")
+
+
+_SECTIONS: dict[str, type] = {
+    "encoder": EncoderConfig,
+    "torque_sensor": TorqueSensorConfig,
+    "controller": ControllerConfig,
+    "simulation": SimulationConfig,
+}
+_INT_FIELDS = {"counts_per_rev", "seed", "substeps"}
+
+
+def _section(name: str, cls: type, data: dict[str, Any], source: str) -> Any:
+    allowed = [f.name for f in fields(cls)]
+    unknown = sorted(set(data) - set(allowed))
+    if unknown:
+        raise PlantError(
+            f"{source}: unknown key(s) {', '.join(unknown)} in [{name}]; allowed: {', '.join(allowed)}"
+        )
+    for key, value in data.items():
+        if key in _INT_FIELDS and not (isinstance(value, int) and not isinstance(value, bool)):
+            raise PlantError(f"{source}: [{name}] {key} = {value!r} must be an integer")
+    return cls(**data)
+
+
+def plant_from_mapping(data: dict[str, Any], source: str = "plant") -> PlantConfig:
+    """Validate a plant mapping (``[axis]`` as in a parameter file, optional other sections)."""
+    allowed = ["axis", *_SECTIONS]
+    unknown = sorted(set(data) - set(allowed))
+    if unknown:
+        raise PlantError(f"{source}: unknown section(s) {', '.join(unknown)}; allowed: {', '.join(allowed)}")
+    if "axis" not in data:
+        raise PlantError(f"{source}: missing the [axis] section (the true axis parameters)")
+    try:
+        axis = params_from_mapping(data["axis"], f"{source} [axis]")
+    except AxisflowError as exc:
+        raise PlantError(str(exc)) from None
+    parts = {name: _section(name, cls, data.get(name, {}), source) for name, cls in _SECTIONS.items()}
+    return PlantConfig(axis=axis, **parts)
+
+
+def load_plant(path: str | Path | None = None) -> PlantConfig:
+    """Load a plant file, or the packaged default when ``path`` is None."""
+    if path is None:
+        text = resources.files(__package__).joinpath(DEFAULT_PLANT_RESOURCE).read_text("utf-8")
+        source = f"default plant ({DEFAULT_PLANT_RESOURCE})"
+    else:
+        p = Path(path)
+        source = str(p)
+        try:
+            text = p.read_text("utf-8")
+        except FileNotFoundError:
+            raise PlantError(f"plant file {p} does not exist") from None
+        except OSError as exc:
+            raise PlantError(f"plant file {p} cannot be read: {exc.strerror}") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise PlantError(f"{source}: not valid TOML: {exc}") from None
+    return plant_from_mapping(data, source)
+
+
+class SimulatedAxis:
+    """A :class:`~axisflow.acquisition.drive.Drive` backed by the integrated plant (see module doc)."""
+
+    def __init__(
+        self, plant: PlantConfig, nominal: AxisParams, start_stamp_ns: int, axis: str = "a0"
+    ) -> None:
+        self.axis = axis
+        self.plant = plant
+        self.nominal = nominal
+        self.tick = 0
+        self._start_ns = start_stamp_ns
+        p = plant.axis
+        self._M = p.M_eq
+        self._dt = DRIVE_PERIOD_NS * 1e-9 / plant.simulation.substeps
+        self._substeps = plant.simulation.substeps
+        self._m_per_count = 2.0 * math.pi * p.r / plant.encoder.counts_per_rev
+        self._alpha_v = 1.0 - math.exp(
+            -2.0 * math.pi * plant.encoder.velocity_filter_hz * DRIVE_PERIOD_NS * 1e-9
+        )
+        w = 2.0 * math.pi * plant.controller.bandwidth_hz
+        self.kp_n_m = nominal.M_eq * w * w
+        self.kd_n_s_m = 2.0 * plant.controller.damping * w * nominal.M_eq
+        self._rng = random.Random(plant.torque_sensor.seed)
+        # true state
+        self.position_m = plant.simulation.initial_position_m
+        self.velocity_m_s = 0.0
+        self.applied_torque_nm = 0.0
+        # drive's measurement state
+        self._x_meas = self._encoder(self.position_m)
+        self._v_meas = 0.0
+
+    def _encoder(self, x_m: float) -> float:
+        return math.floor(x_m / self._m_per_count) * self._m_per_count
+
+    @property
+    def stamp_ns(self) -> int:
+        return self._start_ns + self.tick * DRIVE_PERIOD_NS
+
+    def read(self) -> AxisSample:
+        p = self.nominal
+        tau_meas = self.applied_torque_nm + self._rng.gauss(0.0, self.plant.torque_sensor.noise_std_nm)
+        return AxisSample(
+            stamp_ns=self.stamp_ns,
+            axis=self.axis,
+            position_m=self._x_meas,
+            velocity_m_s=self._v_meas,
+            force_n=tau_meas * p.i_r / p.r,
+            motor_angle_rad=self._x_meas * p.i_r / p.r,
+            motor_speed_rad_s=self._v_meas * p.i_r / p.r,
+            motor_torque_nm=tau_meas,
+        )
+
+    def apply(self, setpoint: Setpoint) -> None:
+        nominal = self.nominal
+        force_cmd = (
+            setpoint.force_ff_n
+            + self.kp_n_m * (setpoint.position_m - self._x_meas)
+            + self.kd_n_s_m * (setpoint.velocity_m_s - self._v_meas)
+        )
+        tau_max = self.plant.axis.tau_max
+        tau = min(max(force_cmd * nominal.r / nominal.i_r, -tau_max), tau_max)
+        self.applied_torque_nm = tau
+        self._integrate(tau)
+        self.tick += 1
+        x_new = self._encoder(self.position_m)
+        v_raw = (x_new - self._x_meas) / (DRIVE_PERIOD_NS * 1e-9)
+        self._v_meas += self._alpha_v * (v_raw - self._v_meas)
+        self._x_meas = x_new
+
+    def _integrate(self, tau_nm: float) -> None:
+        p = self.plant.axis
+        force = tau_nm * p.i_r / p.r
+        x, v, dt, M = self.position_m, self.velocity_m_s, self._dt, self._M
+        for _ in range(self._substeps):
+            if v == 0.0:
+                if abs(force) <= p.a1:
+                    continue  # static friction holds the cart
+                direction = 1.0 if force > 0.0 else -1.0
+                v = (force - p.a1 * direction) / M * dt
+            else:
+                friction = p.a1 * math.copysign(1.0, v) + p.a2 * v + p.a3 * math.atan(p.a4 * v)
+                v_next = v + (force - friction) / M * dt
+                v = 0.0 if v_next * v < 0.0 else v_next
+            x += v * dt
+            if x < 0.0:
+                x, v = 0.0, 0.0
+            elif x > p.L:
+                x, v = p.L, 0.0
+        self.position_m, self.velocity_m_s = x, v
+
+    def close(self) -> None:
+        """Nothing to release for the simulation."""

@@ -1,0 +1,92 @@
+"""``axisflow bridge --sim``: the 1 kHz drive bridge with the simulated axis."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+
+from ..acquisition.bridge import BridgeConfig, run_bridge
+from ..acquisition.drive import DRIVE_PERIOD_NS
+from ..acquisition.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
+from ..acquisition.move_queue import DEFAULT_JUMP_TOLERANCE_M
+from ..acquisition.shutdown import stop_on_signals
+from ..acquisition.sim_axis import SimulatedAxis, load_plant
+from ..acquisition.zenoh_config import open_session
+from .common import add_params_option, finite_float, params_from_args
+from .zenoh_options import add_zenoh_options, zenoh_options_from_args
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "bridge",
+        help="run the 1 kHz drive bridge (simulated axis) over Zenoh",
+        description="Publish 1 kHz samples and setpoints of an axis over Zenoh and execute the moves "
+        "received on <prefix>/<axis>/trajectory. Stops after --duration or on SIGINT/SIGTERM and "
+        "prints the period jitter.",
+    )
+    p.add_argument("--sim", action="store_true", required=True, help="drive the simulated axis (required)")
+    p.add_argument("--axis", default=DEFAULT_AXIS, help=f"axis name (default: {DEFAULT_AXIS})")
+    p.add_argument("--prefix", default=DEFAULT_PREFIX, help=f"key prefix (default: {DEFAULT_PREFIX})")
+    add_params_option(p)
+    p.add_argument("--plant", metavar="FILE", default=None, help="plant file (default: the packaged one)")
+    p.add_argument(
+        "--speed",
+        type=finite_float,
+        default=1.0,
+        metavar="X",
+        help="X times real time; 0 = as fast as the consumers allow (default: 1)",
+    )
+    p.add_argument("--duration", type=finite_float, default=None, metavar="S", help="drive time to run [s]")
+    p.add_argument(
+        "--wait-subscribers",
+        type=finite_float,
+        default=0.0,
+        metavar="S",
+        help="wait up to S seconds for a subscriber to the state key before the first tick",
+    )
+    p.add_argument(
+        "--jump-tolerance",
+        type=finite_float,
+        default=DEFAULT_JUMP_TOLERANCE_M,
+        metavar="M",
+        help=f"largest accepted start-position mismatch of a move [m] (default {DEFAULT_JUMP_TOLERANCE_M})",
+    )
+    p.add_argument("--json", action="store_true", help="print the report as one JSON object")
+    add_zenoh_options(p)
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    params = params_from_args(args)
+    plant = load_plant(args.plant)
+    config = BridgeConfig(
+        keys=AxisKeys(args.axis, args.prefix),
+        speed=args.speed,
+        duration_s=args.duration,
+        wait_subscribers_s=args.wait_subscribers,
+        jump_tolerance_m=args.jump_tolerance,
+    )
+    options = zenoh_options_from_args(args)
+    start_ns = -(-time.time_ns() // DRIVE_PERIOD_NS) * DRIVE_PERIOD_NS  # next whole millisecond
+    drive = SimulatedAxis(plant, params, start_ns, axis=args.axis)
+    with stop_on_signals() as stop, open_session(options) as session:
+        try:
+            report = run_bridge(session, drive, params, config, stop)
+        finally:
+            drive.close()
+    if args.json:
+        out = {
+            "ticks": report.ticks,
+            "wall_time_s": report.wall_time_s,
+            "moves_accepted": report.moves_accepted,
+            "moves_rejected": report.moves_rejected,
+            "moves_completed": report.moves_completed,
+            "moves_missed": report.moves_missed,
+            "period_jitter": report.period_jitter.to_dict() if report.period_jitter else None,
+            "rejections": report.rejections,
+        }
+        print(json.dumps(out, indent=2))
+    else:
+        print(report.summary())
+    return 0

@@ -1,0 +1,24 @@
+"""``axisflow recover``: rebuild a complete MCAP file from one cut off by a crash."""
+
+from __future__ import annotations
+
+import argparse
+
+from ..acquisition.recover import recover
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "recover",
+        help="rebuild a crashed recording into a complete MCAP file",
+        description="Read FILE with a streaming reader up to its last complete chunk and write a "
+        "complete copy (summary, index, footer) that every MCAP tool opens.",
+    )
+    p.add_argument("file", metavar="FILE.mcap", help="the recording, e.g. one whose recorder was killed")
+    p.add_argument("-o", "--output", default=None, metavar="OUT.mcap", help="default: FILE.recovered.mcap")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    print(recover(args.file, args.output).format())
+    return 0

@@ -1,0 +1,44 @@
+"""``axisflow replay``: publish a recording back over Zenoh at its recorded pace."""
+
+from __future__ import annotations
+
+import argparse
+
+from ..acquisition.replay import replay
+from ..acquisition.shutdown import stop_on_signals
+from ..acquisition.zenoh_config import open_session
+from .common import finite_float
+from .zenoh_options import add_zenoh_options, zenoh_options_from_args
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "replay",
+        help="publish an MCAP recording back over Zenoh",
+        description="Publish every message of FILE on key = topic without the leading '/', at the "
+        "recorded pace (log times) divided by --speed.",
+    )
+    p.add_argument("file", metavar="FILE.mcap", help="recording (complete or truncated)")
+    p.add_argument(
+        "--speed",
+        type=finite_float,
+        default=1.0,
+        metavar="X",
+        help="X times the recorded pace; 0 = as fast as the consumers allow (default: 1)",
+    )
+    p.add_argument(
+        "--wait-subscribers",
+        type=finite_float,
+        default=0.0,
+        metavar="S",
+        help="wait up to S seconds for a subscriber before the first message",
+    )
+    add_zenoh_options(p)
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    with stop_on_signals() as stop, open_session(zenoh_options_from_args(args)) as session:
+        report = replay(session, args.file, args.speed, stop, args.wait_subscribers)
+    print(report.format())
+    return 0
