@@ -31,7 +31,9 @@ DEFAULT_TIME_BOUNDS_S: dict[Case, tuple[float, float]] = {
     Case.MIN_TIME_ENERGY: (0.3, 20.0),
 }
 DEFAULT_OMEGA = 0.9
-DEFAULT_W0 = 1.0
+DEFAULT_W0 = 100.0
+"""the paper's w0 of eq. (2), "used to improve the convergence": with 100, IPOPT converges within its
+10 iterations on the default axis (measured: ~9 iterations; with 1 most solves stop at the cap)"""
 
 
 @dataclass(frozen=True)
