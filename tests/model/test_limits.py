@@ -13,13 +13,13 @@ def test_execution_samples_are_1khz_and_include_the_end():
 def test_velocity_exactly_at_the_limit_is_not_a_violation():
     p = default_params().replace(tau_max=1e3)
     law = polynomial_law("poly5")
-    d = 0.5
-    T = law.peak_velocity_factor * d / p.v_max  # peak exactly v_max at the midpoint sample t = T/2
-    T = round(T * 2000) / 2000  # make T/2 a whole millisecond so a sample sits on the peak
+    T = 0.5  # the peak sits at T/2 = 250 ms, an execution sample
+    d = p.v_max * T / law.peak_velocity_factor  # so the peak velocity is exactly v_max
     report = check_limits(Move(0.1, 0.1 + d, T, law), p)
-    assert report.peak_velocity_m_s == pytest.approx(law.peak_velocity_factor * d / T)
+    assert report.peak_velocity_m_s == pytest.approx(p.v_max, rel=1e-12)
+    assert report.velocity_violation <= 1e-12
     faster = check_limits(Move(0.1, 0.1 + d, T * 0.9, law), p)
-    assert faster.velocity_violation > 0.05
+    assert faster.velocity_violation == pytest.approx(1 / 0.9 - 1, rel=1e-3)
     assert not faster.ok
 
 
