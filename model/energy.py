@@ -38,14 +38,12 @@ def count_power(power_w: np.ndarray, accounting: EnergyAccounting) -> np.ndarray
 
 
 def _power_of_u(move: Move, params: AxisParams):
+    """P(u) = F·ẋ along the move as a function of normalised time u ∈ [0, 1]."""
     d, T, law = move.distance_m, move.duration_s, move.law
 
     def power(u: np.ndarray) -> np.ndarray:
         v = d / T * law.shape(u, 1)
-        a = d / T**2 * law.shape(u, 2)
-        # inside the move sign(ẋ) = sign(d); at the end points ẋ = 0 and the power is 0 either way
-        f = params.M_eq * a + params.a1 * np.sign(d) + params.a2 * v + params.a3 * np.arctan(params.a4 * v)
-        return f * v
+        return cart_force(v, d / T**2 * law.shape(u, 2), params) * v
 
     return power
 
@@ -96,9 +94,3 @@ def trace_energy(
     if p.size < 2:
         return 0.0
     return float(dt_s * (p.sum() - 0.5 * (p[0] + p[-1])))
-
-
-def move_force(move: Move, params: AxisParams, t_s: np.ndarray) -> np.ndarray:
-    """Cart force [N] required by eq. (1) along the move at times ``t_s``."""
-    s = move.sample(t_s)
-    return cart_force(s.velocity_m_s, s.acceleration_m_s2, params)
