@@ -26,11 +26,19 @@ def _ipopt(**options: Any) -> PlannerBackend:
     return IpoptBackend(IpoptSettings(**options))
 
 
-BACKENDS: dict[str, Callable[..., PlannerBackend]] = {"ipopt": _ipopt}
+def _exact(**options: Any) -> PlannerBackend:
+    from .exact_backend import ExactBackend
+
+    if options:
+        raise MoveError(f"the exact solver takes no options, got {', '.join(sorted(options))}")
+    return ExactBackend()
+
+
+BACKENDS: dict[str, Callable[..., PlannerBackend]] = {"exact": _exact, "ipopt": _ipopt}
 
 
 def make_backend(name: str, **options: Any) -> PlannerBackend:
-    """A back-end by name (``ipopt``), with back-end specific options (e.g. ``max_iter``)."""
+    """A back-end by name (``exact``, ``ipopt``), with back-end specific options (e.g. ``max_iter``)."""
     try:
         factory = BACKENDS[name]
     except KeyError:

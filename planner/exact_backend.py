@@ -1,0 +1,531 @@
+"""Exact back-end: the paper's one-variable problem solved by its structure, with a certificate.
+
+Notation (docs/planner.md has the derivations). A move of length D = |x1 − x0| > 0 along a law s(u)
+in time T has, in the frame where it runs forward, velocity v = β·s'(u) with β = D/T, and needs the
+cart force (eq. 1, the friction sign closed at the end points, as IPOPT's nodes do)
+
+    F(u, T) = M·D·s''(u)/T² + φ(β·s'(u)),      φ(v) = a1 + a2·v + a3·atan(a4·v),  u ∈ [0, 1].
+
+Case 1 (minimum time). The velocity limit gives T ≥ T_v = c_v·D/v_max (c_v = max s'). For the torque
+limit, with a_i ≥ 0 both max_u F and max_u (−F) are non-increasing in T (each braking term −F shrinks
+with T wherever it is positive, because atan(z) ≥ z/(1+z²)), so feasibility is monotone and the
+answer is T* = max(T_min, T_v, T_τ), where T_τ solves max_u F(u, T) = F_max. The laws are symmetric
+(s'(1−u) = s'(u), s''(1−u) = −s''(u)), so the braking peak is the driving peak minus twice the
+friction and never binds; T_τ is found by Newton's method on the pair (u, y = 1/T) of equations
+∂F/∂u = 0, F = F_max (the analytic extremum; at u = 0 for poly3 when the peak sits on the boundary).
+The certificate is a bracket (t_lower_s, t_upper_s]: F(u*, t_lower_s) > F_max proves t_lower_s
+infeasible; t_upper_s meets every limit at the analytic extremum.
+
+Case 2 (minimum ω·T + (1 − ω)·E). Signed energy is friction work (the kinetic energy is returned):
+
+    E_s(T) = a1·D + a2·D²·I2/T + a3·D·Φ(a4·β),   I2 = ∫s'²,  Φ(k) = ∫ s'·atan(k·s') du,
+
+which is convex in T, and dJ/dT = 0 ⇔ ψ(β) := β²·(a2·I2 + a3·a4·Φ'(a4·β)) = ω/(1 − ω), with ψ
+increasing: the unconstrained optimum is T = D/β*(law, ω), one cached scalar per ω. The constrained
+optimum is the projection of D/β* on [T_feas, T_max] and the gap is 0 (convexity).
+
+The ``positive`` and ``absolute`` accountings add c·R(T) (c = 1, 2), R = D·∫ h⁺(u)·s'(u) du the
+braking (regenerable) energy, h = A·|s''| − φ(β·s') on the braking half, A = M·β²/D. R ≥ 0 is
+non-increasing in T, so J is non-increasing on [T_feas, T_s] (T_s the signed optimum) and the global
+minimum lies in [T_s, T_up], T_up being where J_s alone exceeds J(T_s). There a branch-and-bound on
+cells [a, b] with the bound J_s(a) + (1 − ω)·c·R(b) (J_s increasing, R decreasing) proves the gap
+reported in the certificate; the best point is polished to 1e-10 relative by golden section.
+"""
+
+from __future__ import annotations
+
+import bisect
+import itertools
+import math
+import time
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+from scipy.integrate import quad
+from scipy.optimize import brentq
+
+from ..model import AxisParams, EnergyAccounting, PolynomialLaw
+from .errors import InfeasibleMoveError
+from .evaluation import finish
+from .problem import Case, MoveProblem
+from .result import PlanResult, SolveStatus
+
+_NEWTON_MAX = 60
+_GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
+_BRACKET_REL = 1e-11
+"""relative width of the proved case-1 bracket"""
+_BNB_CELLS = 24
+"""branch-and-bound budget (extra energy evaluations) for case 2 with braking energy"""
+
+
+def _horner(c: tuple[float, ...], u: float) -> float:
+    r = 0.0
+    for a in c:
+        r = r * u + a
+    return r
+
+
+def _graded_half_nodes(per_panel: int = 12) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss–Legendre nodes and weights on [0, 1/2], panels graded towards u = 0 where s' → 0."""
+    edges = [0.0, 1e-4, 1e-3, 5e-3, 0.02, 0.06, 0.13, 0.22, 0.33, 0.5]
+    x, w = np.polynomial.legendre.leggauss(per_panel)
+    us, ws = [], []
+    for lo, hi in itertools.pairwise(edges):
+        half = 0.5 * (hi - lo)
+        us.append(lo + half * (x + 1.0))
+        ws.append(half * w)
+    return np.concatenate(us), np.concatenate(ws)
+
+
+_GL16_X, _GL16_W = np.polynomial.legendre.leggauss(16)
+
+
+@dataclass(frozen=True, eq=False)
+class LawModel:
+    """A symmetric polynomial law and an axis, prepared for the exact solver (scalars and tables)."""
+
+    law: PolynomialLaw
+    M: float
+    a1: float
+    a2: float
+    a3: float
+    a4: float
+    f_max_n: float
+    v_max_m_s: float
+    c1: tuple[float, ...]
+    c2: tuple[float, ...]
+    c3: tuple[float, ...]
+    c4: tuple[float, ...]
+    """s', s'', s''', s'''' coefficients, highest power first (Horner)"""
+    u_acc_peak: float
+    """argmax of s'' on [0, 1/2]"""
+    I2: float
+    """∫₀¹ s'² du"""
+    half_u: np.ndarray
+    half_w: np.ndarray
+    half_s1: np.ndarray
+    """graded quadrature on [0, 1/2] and s' at its nodes (weights doubled for the symmetric half)"""
+    table: tuple[list[float], list[float], list[float]] | None
+    """(log D, log y, u) of the torque root at table nodes; None until :meth:`with_table`"""
+
+    @classmethod
+    def build(cls, law: PolynomialLaw, params: AxisParams) -> LawModel:
+        d = [np.asarray(c, dtype=float) for c in law.derivatives]
+        d4 = np.polynomial.polynomial.polyder(d[2])
+        u = np.linspace(0.0, 1.0, 2001)
+        s1, s2 = law.shape(u, 1), law.shape(u, 2)
+        if not (np.allclose(s1, s1[::-1], atol=1e-12) and np.allclose(s2, -s2[::-1], atol=1e-12)):
+            raise ValueError(f"law {law.name} is not symmetric; the exact back-end needs s'(1−u) = s'(u)")
+        half = u <= 0.5
+        hu, hw = _graded_half_nodes()
+        return cls(
+            law=law,
+            M=params.M_eq,
+            a1=params.a1,
+            a2=params.a2,
+            a3=params.a3,
+            a4=params.a4,
+            f_max_n=params.f_max,
+            v_max_m_s=params.v_max,
+            c1=tuple(float(c) for c in d[0][::-1]),
+            c2=tuple(float(c) for c in d[1][::-1]),
+            c3=tuple(float(c) for c in d[2][::-1]),
+            c4=tuple(float(c) for c in d4[::-1]) if d4.size else (0.0,),
+            u_acc_peak=float(u[half][np.argmax(s2[half])]),
+            I2=law.integral_of_squared_velocity(),
+            half_u=hu,
+            half_w=2.0 * hw,
+            half_s1=law.shape(hu, 1),
+            table=None,
+        ).with_table(params.L)
+
+    # ---- torque: F and its derivatives at (u, y = 1/T) -------------------------------------------
+    def force_derivatives(self, u: float, y: float, D: float) -> tuple[float, float, float, float, float]:
+        """F, ∂F/∂u, ∂²F/∂u², ∂F/∂y, ∂²F/∂u∂y at (u, y) for a move of length D (forward frame)."""
+        s1 = _horner(self.c1, u)
+        s2 = _horner(self.c2, u)
+        s3 = _horner(self.c3, u)
+        s4 = _horner(self.c4, u)
+        a3, a4 = self.a3, self.a4
+        Dy = D * y
+        v = Dy * s1
+        z = a4 * v
+        q = 1.0 / (1.0 + z * z)
+        fp = self.a2 + a3 * a4 * q
+        fpp = -2.0 * a3 * a4 * a4 * z * q * q
+        MDy2 = self.M * D * y * y
+        F = MDy2 * s2 + self.a1 + self.a2 * v + a3 * math.atan(z)
+        Fu = MDy2 * s3 + fp * Dy * s2
+        Fuu = MDy2 * s4 + fpp * (Dy * s2) ** 2 + fp * Dy * s3
+        Fy = 2.0 * self.M * D * y * s2 + fp * D * s1
+        Fuy = 2.0 * self.M * D * y * s3 + D * s2 * (fp + fpp * v)
+        return F, Fu, Fuu, Fy, Fuy
+
+    def peak_force(self, y: float, D: float, u0: float) -> tuple[float, float, float]:
+        """max over u ∈ [0, 1/2] of F(u, y): (F_peak [N], ∂F/∂y there [N·s], u_peak).
+
+        Safeguarded Newton on ∂F/∂u = 0 inside a sign bracket (∂F/∂u > 0 left, < 0 right; at
+        u = 1/2, s'' = 0 and s''' < 0). When ∂F/∂u(0) < 0 (poly3 with a strong inertia term) the
+        peak is the boundary u = 0.
+        """
+        F, Fu, Fuu, Fy, _ = self.force_derivatives(0.0, y, D)
+        if Fu < 0.0:
+            return F, Fy, 0.0
+        lo, hi = 0.0, 0.5
+        u = min(max(u0, 0.0), 0.5)
+        for _ in range(_NEWTON_MAX):
+            F, Fu, Fuu, Fy, _ = self.force_derivatives(u, y, D)
+            if Fu > 0.0:
+                lo = u
+            else:
+                hi = u
+            new = u - Fu / Fuu if Fuu < 0.0 else -1.0
+            if not lo < new < hi:
+                new = 0.5 * (lo + hi)
+            if abs(new - u) <= 1e-13 or hi - lo <= 1e-13:
+                break
+            u = new
+        return F, Fy, u
+
+    def _torque_root(self, D: float, y: float, u: float) -> tuple[float, float]:
+        """y = 1/T_τ by Newton on G(y) = max_u F(u, y) − F_max (G increasing), from a guess."""
+        M, fmax = self.M, self.f_max_n
+        s2a = _horner(self.c2, self.u_acc_peak)
+        y_hi = math.sqrt(fmax / (M * D * s2a))  # F(u_a, y_hi) ≥ F_max + a1: infeasible
+        y_lo = 0.0  # F(u, 0) = a1 < F_max
+        y = min(y, y_hi)
+        for _ in range(_NEWTON_MAX):
+            F, Fy, u = self.peak_force(y, D, u)
+            G = F - fmax
+            if G > 0.0:
+                y_hi = y
+            else:
+                y_lo = y
+            new = y - G / Fy
+            if not y_lo < new < y_hi:
+                new = 0.5 * (y_lo + y_hi)
+            if abs(new - y) <= 2e-16 * y or y_hi - y_lo <= 2e-16 * y_hi:
+                return (y if G <= 0.0 else min(new, y)), u
+            y = new
+        return y_lo, u
+
+    def torque_limited_duration(self, D: float) -> tuple[float, float, float]:
+        """T_τ [s]: smallest T with max_u F(u, T) ≤ F_max (Newton from the law's table, see above).
+
+        Returns (t_upper_s, t_lower_s, u_peak): the peak meets the limit at t_upper_s and exceeds it
+        at t_lower_s (a proof that t_lower_s is infeasible).
+        """
+        fmax = self.f_max_n
+        y, u = self._table_guess(D)
+        y, u = self._torque_root(D, y, u)
+        F, _, u = self.peak_force(y, D, u)
+        while fmax < F:  # rounding: step to the feasible side
+            y *= 1.0 - 4e-16
+            F, _, u = self.peak_force(y, D, u)
+        t_up = 1.0 / y
+        t_low = t_up * (1.0 - _BRACKET_REL)
+        if self.force_derivatives(u, 1.0 / t_low, D)[0] <= fmax:  # pragma: no cover - numerical guard
+            t_low = t_up * (1.0 - 1e-8)
+        return t_up, t_low, u
+
+    def _table_guess(self, D: float) -> tuple[float, float]:
+        """(y, u) of the torque root interpolated from the table over log D (a start for Newton)."""
+        table = self.table
+        if table is None or table[0][0] >= D or table[0][-1] <= D:
+            fmax = self.f_max_n
+            free = fmax - self.a1 - self.a3 * math.pi / 2.0 - self.a2 * self.v_max_m_s
+            if free <= 0.0:
+                free = 0.5 * (fmax - self.a1)
+            return math.sqrt(free / (self.M * D * _horner(self.c2, self.u_acc_peak))), self.u_acc_peak
+        log_d, log_y, us = table
+        x = math.log(D)
+        k = bisect.bisect_right(log_d, x) - 1
+        w = (x - log_d[k]) / (log_d[k + 1] - log_d[k])
+        return math.exp(log_y[k] + w * (log_y[k + 1] - log_y[k])), us[k] + w * (us[k + 1] - us[k])
+
+    def with_table(self, stroke_m: float, nodes: int = 160) -> LawModel:
+        """Fill the table of the torque root y(D) over D ∈ [1e-7·L, 1.001·L] (log spaced)."""
+        ds = np.geomspace(1e-7 * stroke_m, 1.001 * stroke_m, nodes)
+        log_y, us = [], []
+        for D in ds:
+            y, u = self._torque_root(float(D), *self._table_guess(float(D)))
+            log_y.append(math.log(y))
+            us.append(u)
+        object.__setattr__(self, "table", ([math.log(float(D)) for D in ds], log_y, us))
+        return self
+
+    # ---- energy ----------------------------------------------------------------------------------
+    def phi(self, k: float) -> float:
+        """Φ(k) = ∫₀¹ s'·atan(k·s') du (graded Gauss–Legendre, symmetric halves)."""
+        s = self.half_s1
+        return float(np.dot(self.half_w, s * np.arctan(k * s)))
+
+    def phi_prime(self, k: float) -> float:
+        """Φ'(k) = ∫₀¹ s'²/(1 + k²s'²) du."""
+        s = self.half_s1
+        return float(np.dot(self.half_w, s * s / (1.0 + (k * s) ** 2)))
+
+    def signed_energy(self, D: float, T: float) -> float:
+        """E_s(T) [J] = a1·D + a2·D²·I2/T + a3·D·Φ(a4·D/T): the friction work of the move."""
+        return self.a1 * D + self.a2 * D * D * self.I2 / T + self.a3 * D * self.phi(self.a4 * D / T)
+
+    def signed_energy_slope(self, D: float, T: float) -> float:
+        """dE_s/dT [J/s] = −(D/T)²·(a2·I2 + a3·a4·Φ'(a4·D/T))."""
+        b = D / T
+        return -b * b * (self.a2 * self.I2 + self.a3 * self.a4 * self.phi_prime(self.a4 * b))
+
+    def braking_energy(self, D: float, T: float) -> float:
+        """R(T) [J] = D·∫ h⁺·s' du over the braking half, h = A·|s''| − φ(β·s'), A = M·β²/D.
+
+        (Mapped to u' = 1 − u ∈ [0, 1/2]: h = A·s''(u') − φ(β·s'(u')).) The interval where h > 0 is
+        found from the peak of h (Newton) and its two roots (Brent), then integrated by 16-point
+        Gauss–Legendre, so the kink of h⁺ falls on the panel edges.
+        """
+        beta = D / T
+        A = self.M * beta * beta / D
+        a1, a2, a3, a4 = self.a1, self.a2, self.a3, self.a4
+
+        def h(u: float) -> float:
+            v = beta * _horner(self.c1, u)
+            return A * _horner(self.c2, u) - a1 - a2 * v - a3 * math.atan(a4 * v)
+
+        # peak of h: start at the peak of s''; h' = A s''' − φ'(v)·β·s''
+        u = self.u_acc_peak
+        for _ in range(_NEWTON_MAX):
+            s1, s2, s3, s4 = (_horner(c, u) for c in (self.c1, self.c2, self.c3, self.c4))
+            v = beta * s1
+            z = a4 * v
+            q = 1.0 / (1.0 + z * z)
+            fp = a2 + a3 * a4 * q
+            fpp = -2.0 * a3 * a4 * a4 * z * q * q
+            hu = A * s3 - fp * beta * s2
+            huu = A * s4 - fpp * (beta * s2) ** 2 - fp * beta * s3
+            step = -hu / huu if huu < 0 else (0.02 if hu > 0 else -0.02)
+            new = min(max(u + step, 0.0), 0.5)
+            if abs(new - u) <= 1e-14:
+                u = new
+                break
+            u = new
+        if h(u) <= 0.0:
+            return 0.0
+        lo = 0.0 if h(0.0) > 0.0 else brentq(h, 0.0, u, xtol=1e-15, rtol=1e-15)
+        hi = brentq(h, u, 0.5, xtol=1e-15, rtol=1e-15)
+        half = 0.5 * (hi - lo)
+        x = lo + half * (_GL16_X + 1.0)
+        s1 = np.polyval(self.c1, x)
+        v = beta * s1
+        hv = A * np.polyval(self.c2, x) - a1 - a2 * v - a3 * np.arctan(a4 * v)
+        return D * half * float(np.dot(_GL16_W, np.maximum(hv, 0.0) * s1))
+
+
+@lru_cache(maxsize=256)
+def law_model(law: PolynomialLaw, params: AxisParams) -> LawModel:
+    """The prepared law for an axis (cached: parameters are frozen and hashable)."""
+    return LawModel.build(law, params)
+
+
+@lru_cache(maxsize=1024)
+def optimal_speed_ratio(law: PolynomialLaw, params: AxisParams, omega: float) -> float:
+    """β* [m/s]: the root of ψ(β) = β²·(a2·I2 + a3·a4·Φ'(a4·β)) = ω/(1 − ω) (ψ is increasing).
+
+    The signed-energy time-energy optimum of a move of length D, ignoring limits and bounds, is
+    T = D/β*. ω = 1 gives β* = ∞ (minimum time), ω = 0 gives β* = 0 (the slowest move).
+    """
+    if omega >= 1.0:
+        return math.inf
+    if omega <= 0.0:
+        return 0.0
+    lm = law_model(law, params)
+    target = omega / (1.0 - omega)
+
+    def phi_prime(k: float) -> float:
+        def f(u: float) -> float:
+            s = float(law.shape(u, 1))
+            return s * s / (1.0 + (k * s) ** 2)
+
+        return quad(f, 0.0, 1.0, epsabs=1e-15, epsrel=1e-13, limit=200, points=[0.5])[0]
+
+    def psi(b: float) -> float:
+        return b * b * (lm.a2 * lm.I2 + lm.a3 * lm.a4 * phi_prime(lm.a4 * b)) - target
+
+    hi = 1.0
+    while psi(hi) < 0.0:
+        hi *= 2.0
+    return brentq(psi, 0.0, hi, xtol=1e-16, rtol=1e-15)
+
+
+@dataclass(frozen=True)
+class ExactSolution:
+    """The bare answer of the exact solver (no 1 kHz scoring): duration, objective and proof."""
+
+    duration_s: float
+    objective: float
+    energy_j: float
+    active: str
+    """what decides the duration: t_min, velocity, torque, t_max, optimum, zero-length"""
+    certificate: dict[str, float]
+
+
+def min_feasible_duration(
+    problem: MoveProblem, params: AxisParams, lm: LawModel | None = None
+) -> tuple[float, float, str]:
+    """(T_feas, T_below, active): the smallest feasible duration in the bounds and a proved-infeasible
+    duration just below it (0 when T_feas is the lower bound); raises when none is feasible."""
+    lm = lm or law_model(problem.law, params)
+    D = abs(problem.x1_m - problem.x0_m)
+    t_v = problem.law.peak_velocity_factor * D / params.v_max
+    t_tau, t_tau_low, _ = lm.torque_limited_duration(D)
+    t_min, t_max = problem.t_min_s, problem.t_max_s
+    if t_min >= t_v and t_min >= t_tau:
+        t, below, active = t_min, 0.0, "t_min"
+    elif t_v >= t_tau:
+        t, below, active = t_v, math.nextafter(t_v, 0.0), "velocity"
+        t_rnd = problem.law.peak_velocity_factor * D / t
+        if t_rnd > params.v_max:  # rounding: step up until the peak velocity meets the limit
+            t = math.nextafter(t, math.inf)
+    else:
+        t, below, active = t_tau, t_tau_low, "torque"
+    if t > t_max:
+        raise InfeasibleMoveError(
+            f"no duration in [{t_min}, {t_max}] s keeps the {problem.law.name} move {problem.x0_m:.6g} m → "
+            f"{problem.x1_m:.6g} m within the limits: it needs T >= {t:.6g} s "
+            f"(velocity: {t_v:.6g} s at v_max = {params.v_max} m/s; torque: {t_tau:.6g} s at "
+            f"tau_max = {params.tau_max} N·m)"
+        )
+    return t, below, active
+
+
+def solve_exact(problem: MoveProblem, params: AxisParams) -> ExactSolution:
+    """Solve one move exactly (see the module docstring); the hot path of :class:`ExactBackend`."""
+    problem.check_stroke(params)
+    D = abs(problem.x1_m - problem.x0_m)
+    if D == 0.0:
+        return ExactSolution(problem.t_min_s, problem.w0 * problem.t_min_s, 0.0, "zero-length", {})
+    lm = law_model(problem.law, params)
+    t_feas, t_below, active = min_feasible_duration(problem, params, lm)
+    if problem.case is Case.MIN_TIME:
+        return ExactSolution(
+            t_feas,
+            problem.w0 * t_feas,
+            math.nan,
+            active,
+            {"t_lower_s": t_below, "t_upper_s": t_feas, "gap_s": t_feas - t_below},
+        )
+    return _time_energy(problem, params, lm, D, t_feas, active)
+
+
+def _time_energy(
+    problem: MoveProblem, params: AxisParams, lm: LawModel, D: float, t_feas: float, active: str
+) -> ExactSolution:
+    omega = problem.omega
+    t_max = problem.t_max_s
+    beta = optimal_speed_ratio(problem.law, params, omega)
+    t_free = D / beta if beta > 0.0 else math.inf
+    if t_free <= t_feas:
+        t_s = t_feas
+    elif t_free >= t_max:
+        t_s, active = t_max, "t_max"
+    else:
+        t_s, active = t_free, "optimum"
+
+    def j_signed(t: float) -> float:
+        return omega * t + (1.0 - omega) * lm.signed_energy(D, t)
+
+    acc = params.energy_accounting
+    if acc is EnergyAccounting.SIGNED:
+        e = lm.signed_energy(D, t_s)
+        slope = omega + (1.0 - omega) * lm.signed_energy_slope(D, t_s)
+        return ExactSolution(
+            t_s, omega * t_s + (1 - omega) * e, e, active, {"gap_j": 0.0, "dJ_dT": slope, "t_feas_s": t_feas}
+        )
+    c = 1.0 if acc is EnergyAccounting.POSITIVE else 2.0
+    cw = c * (1.0 - omega)
+    r_s = lm.braking_energy(D, t_s)
+    j_best = j_signed(t_s) + cw * r_s
+    if r_s == 0.0 or t_s >= t_max:
+        # R ≥ 0 is non-increasing: R(T_s) = 0 makes J = J_s on [T_s, ∞), minimised at T_s
+        e = lm.signed_energy(D, t_s) + c * r_s
+        return ExactSolution(t_s, j_best, e, active, {"gap_j": 0.0, "t_feas_s": t_feas})
+    # J_s is increasing on [T_s, ∞) (convex, minimised at T_s): beyond T_up, J ≥ J_s > J(T_s)
+    t_up = t_s * 2.0
+    while t_up < t_max and j_signed(t_up) <= j_best:
+        t_up *= 2.0
+    t_up = min(t_up, t_max)
+    # branch and bound on cells [a, b]: min J ≥ J_s(a) + cw·R(b)
+    pts = {t_s: (j_signed(t_s), r_s), t_up: (j_signed(t_up), lm.braking_energy(D, t_up))}
+    for t in np.linspace(t_s, t_up, 9)[1:-1]:
+        pts[float(t)] = (j_signed(float(t)), lm.braking_energy(D, float(t)))
+    for _ in range(_BNB_CELLS):
+        ts = sorted(pts)
+        lbs = [pts[a][0] + cw * pts[b][1] for a, b in itertools.pairwise(ts)]
+        best = min(ts, key=lambda t: pts[t][0] + cw * pts[t][1])
+        j_best = pts[best][0] + cw * pts[best][1]
+        k = int(np.argmin(lbs))
+        if j_best - lbs[k] <= 1e-9 * abs(j_best):
+            break
+        mid = 0.5 * (ts[k] + ts[k + 1])
+        pts[mid] = (j_signed(mid), lm.braking_energy(D, mid))
+    ts = sorted(pts)
+
+    def j_total(t: float) -> float:
+        return j_signed(t) + cw * lm.braking_energy(D, t)
+
+    best = min(ts, key=lambda t: pts[t][0] + cw * pts[t][1])
+    i = ts.index(best)
+    a, b = ts[max(i - 1, 0)], ts[min(i + 1, len(ts) - 1)]
+    # golden-section polish inside the best point's neighbourhood
+    x1, x2 = b - _GOLDEN * (b - a), a + _GOLDEN * (b - a)
+    f1, f2 = j_total(x1), j_total(x2)
+    while b - a > 1e-10 * b:
+        if f1 <= f2:
+            b, x2, f2 = x2, x1, f1
+            x1 = b - _GOLDEN * (b - a)
+            f1 = j_total(x1)
+        else:
+            a, x1, f1 = x1, x2, f2
+            x2 = a + _GOLDEN * (b - a)
+            f2 = j_total(x2)
+    t_opt, j_opt = (x1, f1) if f1 <= f2 else (x2, f2)
+    if j_opt > pts[best][0] + cw * pts[best][1]:
+        t_opt, j_opt = best, pts[best][0] + cw * pts[best][1]
+    ts = sorted(pts)
+    lb = min(pts[a][0] + cw * pts[b][1] for a, b in itertools.pairwise(ts))
+    e = (j_opt - omega * t_opt) / (1.0 - omega)
+    if t_opt > t_s:
+        active = "optimum"
+    return ExactSolution(
+        t_opt,
+        j_opt,
+        e,
+        active,
+        {"gap_j": max(j_opt - lb, 0.0), "t_lower_s": a, "t_upper_s": b, "t_feas_s": t_feas},
+    )
+
+
+class ExactBackend:
+    """Exact back-end (structure + Newton + a certificate); ~10–100 µs per solve in CPython."""
+
+    name = "exact"
+
+    def prepare(self, problem: MoveProblem, params: AxisParams) -> None:
+        """Build the law's tables and, for case 2, the optimal speed ratio for ω (both cached)."""
+        law_model(problem.law, params)
+        if problem.case is Case.MIN_TIME_ENERGY:
+            optimal_speed_ratio(problem.law, params, problem.omega)
+
+    def solve(self, problem: MoveProblem, params: AxisParams) -> PlanResult:
+        t0 = time.perf_counter()
+        sol = solve_exact(problem, params)
+        elapsed = time.perf_counter() - t0
+        return finish(
+            problem,
+            params,
+            solver=self.name,
+            status=SolveStatus.CONVERGED,
+            duration_s=sol.duration_s,
+            iterations=0,
+            solve_time_s=elapsed,
+            message=f"exact; active: {sol.active}",
+            certificate=sol.certificate,
+        )
