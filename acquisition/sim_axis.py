@@ -1,7 +1,10 @@
 """The simulated axis: eq. (1) integrated at several kHz behind a simulated 1 kHz drive.
 
-The plant has its own "true" parameters (a plant file, :data:`DEFAULT_PLANT_RESOURCE` by default),
-which differ from the nominal ones the drive's controller and feed-forward use. Per 1 ms tick:
+The plant has its own "true" parameters, which differ from the nominal ones (``--params``) that the
+drive's controller and feed-forward use. A plant file (:data:`DEFAULT_PLANT_RESOURCE` by default) gives
+them either as ``[scale]`` factors applied to the nominal parameters (the default file: inertia and
+friction off by 5–20 %, so identification has something to find, whatever the nominal set is) or as a
+complete ``[axis]`` table (absolute values, the keys of a parameter file). Per 1 ms tick:
 
 1. the drive measures: the pulley encoder is quantised to ``counts_per_rev`` counts per pulley
    revolution (default 2^17: 2π·0.03 m/131072 = 1.438 µm of cart travel per count); the velocity is
@@ -117,24 +120,48 @@ def _section(name: str, cls: type, data: dict[str, Any], source: str) -> Any:
     return cls(**data)
 
 
-def plant_from_mapping(data: dict[str, Any], source: str = "plant") -> PlantConfig:
-    """Validate a plant mapping (``[axis]`` as in a parameter file, optional other sections)."""
-    allowed = ["axis", *_SECTIONS]
+_SCALABLE = ("m", "J_m", "J_g", "J_p", "a1", "a2", "a3", "a4")
+
+
+def _true_axis(data: dict[str, Any], nominal: AxisParams, source: str) -> AxisParams:
+    if ("axis" in data) == ("scale" in data):
+        raise PlantError(
+            f"{source}: give the true axis either as [scale] factors on the nominal parameters or as a "
+            "complete [axis] table (exactly one of them)"
+        )
+    if "axis" in data:
+        try:
+            return params_from_mapping(data["axis"], f"{source} [axis]")
+        except AxisflowError as exc:
+            raise PlantError(str(exc)) from None
+    factors = data["scale"]
+    unknown = sorted(set(factors) - set(_SCALABLE))
+    if unknown:
+        raise PlantError(
+            f"{source}: unknown key(s) {', '.join(unknown)} in [scale]; allowed: {', '.join(_SCALABLE)}"
+        )
+    for key, value in factors.items():
+        if isinstance(value, bool) or not isinstance(value, int | float) or not 0.0 < value < math.inf:
+            raise PlantError(f"{source}: [scale] {key} = {value!r} must be a finite factor > 0")
+    try:
+        return nominal.replace(**{k: getattr(nominal, k) * v for k, v in factors.items()})
+    except AxisflowError as exc:
+        raise PlantError(f"{source}: {exc}") from None
+
+
+def plant_from_mapping(data: dict[str, Any], nominal: AxisParams, source: str = "plant") -> PlantConfig:
+    """Validate a plant mapping: ``[scale]`` or ``[axis]``, optional sensor/controller sections."""
+    allowed = ["axis", "scale", *_SECTIONS]
     unknown = sorted(set(data) - set(allowed))
     if unknown:
         raise PlantError(f"{source}: unknown section(s) {', '.join(unknown)}; allowed: {', '.join(allowed)}")
-    if "axis" not in data:
-        raise PlantError(f"{source}: missing the [axis] section (the true axis parameters)")
-    try:
-        axis = params_from_mapping(data["axis"], f"{source} [axis]")
-    except AxisflowError as exc:
-        raise PlantError(str(exc)) from None
+    axis = _true_axis(data, nominal, source)
     parts = {name: _section(name, cls, data.get(name, {}), source) for name, cls in _SECTIONS.items()}
     return PlantConfig(axis=axis, **parts)
 
 
-def load_plant(path: str | Path | None = None) -> PlantConfig:
-    """Load a plant file, or the packaged default when ``path`` is None."""
+def load_plant(path: str | Path | None, nominal: AxisParams) -> PlantConfig:
+    """Load a plant file (None: the packaged default) relative to the ``nominal`` parameters."""
     if path is None:
         text = resources.files(__package__).joinpath(DEFAULT_PLANT_RESOURCE).read_text("utf-8")
         source = f"default plant ({DEFAULT_PLANT_RESOURCE})"
@@ -151,7 +178,7 @@ def load_plant(path: str | Path | None = None) -> PlantConfig:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise PlantError(f"{source}: not valid TOML: {exc}") from None
-    return plant_from_mapping(data, source)
+    return plant_from_mapping(data, nominal, source)
 
 
 class SimulatedAxis:

@@ -59,7 +59,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     params = params_from_args(args)
-    plant = load_plant(args.plant)
+    plant = load_plant(args.plant, params)
     config = BridgeConfig(
         keys=AxisKeys(args.axis, args.prefix),
         speed=args.speed,

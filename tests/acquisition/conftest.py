@@ -1,0 +1,78 @@
+"""Fixtures for the acquisition tests: free loopback ports, `axisflow` subprocesses, MCAP reading."""
+
+from __future__ import annotations
+
+import os
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from mcap.reader import make_reader
+from mcap_ros2.decoder import DecoderFactory
+
+CLI = [sys.executable, "-c", "import sys; from axisflow.cli import main; sys.exit(main())"]
+ENV = {**os.environ, "CI": "1", "RUST_LOG": "error"}
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+class Cli:
+    """``axisflow`` subprocesses and MCAP reading (a fixture, so tests import nothing from here)."""
+
+    @staticmethod
+    def free_port() -> int:
+        return _free_port()
+
+    @staticmethod
+    def start(*args: str) -> subprocess.Popen:
+        """Start ``axisflow ARGS`` in the background (text output captured)."""
+        return subprocess.Popen(
+            [*CLI, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV
+        )
+
+    @staticmethod
+    def run(*args: str, timeout: float = 60.0) -> subprocess.CompletedProcess:
+        """Run ``axisflow ARGS``; raises TimeoutExpired (fails the test) if it does not exit in time."""
+        return subprocess.run([*CLI, *args], capture_output=True, text=True, timeout=timeout, env=ENV)
+
+    @staticmethod
+    def finish(proc: subprocess.Popen, timeout: float = 30.0) -> tuple[str, str]:
+        """Wait for a started process; fails the test (after killing it) if it hangs."""
+        try:
+            return proc.communicate(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            out, err = proc.communicate()
+            pytest.fail(f"process did not exit within {timeout} s\nstdout:\n{out}\nstderr:\n{err}")
+
+    @staticmethod
+    def wait_for_file(path: Path, timeout: float = 10.0) -> None:
+        deadline = time.monotonic() + timeout
+        while not (path.exists() and path.stat().st_size > 0):
+            if time.monotonic() > deadline:
+                pytest.fail(f"{path} did not appear within {timeout} s")
+            time.sleep(0.05)
+
+    @staticmethod
+    def decoded(path: Path, topic: str) -> list:
+        """(mcap message, decoded ROS message) pairs of ``topic`` from a complete MCAP file."""
+        with open(path, "rb") as fh:
+            reader = make_reader(fh, decoder_factories=[DecoderFactory()])
+            return [(m, d) for _s, _c, m, d in reader.iter_decoded_messages(topics=[topic])]
+
+
+@pytest.fixture(scope="session")
+def cli() -> Cli:
+    return Cli()
+
+
+@pytest.fixture
+def port() -> int:
+    return _free_port()

@@ -1,0 +1,44 @@
+"""Command-line behaviour: commands exit (no hang), user errors exit 2 without a traceback."""
+
+import pytest
+
+
+def test_record_and_bridge_exit_on_their_own(cli, tmp_path, port):
+    rec = cli.start(
+        "record", "-o", str(tmp_path / "x.mcap"), "--listen", f"tcp/127.0.0.1:{port}", "--duration", "1"
+    )
+    bridge = cli.run(
+        "bridge", "--sim", "--connect", f"tcp/127.0.0.1:{port}", "--duration", "0.5", "--speed", "0"
+    )
+    assert bridge.returncode == 0, bridge.stderr
+    out, err = cli.finish(rec, timeout=30)  # fails the test if the recorder hangs at exit
+    assert "recorded" in out, err
+
+
+def test_bridge_with_default_zenoh_config_exits(cli):
+    result = cli.run("bridge", "--sim", "--duration", "0.2", "--speed", "0", "--json", timeout=30)
+    assert result.returncode == 0, result.stderr
+    assert '"ticks": 200' in result.stdout
+
+
+@pytest.mark.parametrize(
+    ("args", "match"),
+    [
+        (["bridge", "--sim", "--plant", "missing.toml"], "plant file missing.toml does not exist"),
+        (["bridge", "--sim", "--speed", "-1"], "speed = -1.0 must be >= 0"),
+        (["bridge", "--sim", "--axis", "a/b"], "axis name 'a/b' is not a valid key-expression part"),
+        (["record", "-o", "x.txt"], "must end in .mcap"),
+        (["record", "-o", "x.mcap", "--duration", "0"], "duration = 0.0 s must be > 0 s"),
+        (["recover", "missing.mcap"], "recording missing.mcap does not exist"),
+        (["replay", "missing.mcap"], "recording missing.mcap does not exist"),
+        (
+            ["bridge", "--sim", "--zenoh-config", "missing.json5"],
+            "zenoh config file missing.json5 does not exist",
+        ),
+    ],
+)
+def test_user_errors_exit_2_with_a_message(cli, tmp_path, args, match):
+    result = cli.run(*args, timeout=30)
+    assert result.returncode == 2, (result.stdout, result.stderr)
+    assert match in result.stderr
+    assert "Traceback" not in result.stderr
