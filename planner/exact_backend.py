@@ -167,23 +167,30 @@ class LawModel:
 
         Safeguarded Newton on ∂F/∂u = 0 inside a sign bracket (∂F/∂u > 0 left, < 0 right; at
         u = 1/2, s'' = 0 and s''' < 0). When ∂F/∂u(0) < 0 (poly3 with a strong inertia term) the
-        peak is the boundary u = 0.
+        peak is the boundary u = 0. The value returned is F at the last iterate plus the quadratic
+        bound F_u²/(2|F_uu|) on what the remaining step could add, so it never under-reports.
         """
-        F, Fu, Fuu, Fy, _ = self.force_derivatives(0.0, y, D)
+        fd = self.force_derivatives
+        F, Fu, Fuu, Fy, _ = fd(0.0, y, D)
         if Fu < 0.0:
             return F, Fy, 0.0
         lo, hi = 0.0, 0.5
         u = min(max(u0, 0.0), 0.5)
         for _ in range(_NEWTON_MAX):
-            F, Fu, Fuu, Fy, _ = self.force_derivatives(u, y, D)
+            F, Fu, Fuu, Fy, _ = fd(u, y, D)
             if Fu > 0.0:
                 lo = u
             else:
                 hi = u
-            new = u - Fu / Fuu if Fuu < 0.0 else -1.0
+            if Fuu < 0.0:
+                new = u - Fu / Fuu
+                if abs(new - u) <= 1e-9 and lo <= new <= hi:
+                    return F + 0.5 * Fu * Fu / -Fuu, Fy, u
+            else:
+                new = -1.0
             if not lo < new < hi:
                 new = 0.5 * (lo + hi)
-            if abs(new - u) <= 1e-13 or hi - lo <= 1e-13:
+            if hi - lo <= 1e-13:
                 break
             u = new
         return F, Fy, u
@@ -232,14 +239,14 @@ class LawModel:
     def _table_guess(self, D: float) -> tuple[float, float]:
         """(y, u) of the torque root interpolated from the table over log D (a start for Newton)."""
         table = self.table
-        if table is None or table[0][0] >= D or table[0][-1] <= D:
+        x = math.log(D)
+        if table is None or not table[0][0] < x < table[0][-1]:
             fmax = self.f_max_n
             free = fmax - self.a1 - self.a3 * math.pi / 2.0 - self.a2 * self.v_max_m_s
             if free <= 0.0:
                 free = 0.5 * (fmax - self.a1)
             return math.sqrt(free / (self.M * D * _horner(self.c2, self.u_acc_peak))), self.u_acc_peak
         log_d, log_y, us = table
-        x = math.log(D)
         k = bisect.bisect_right(log_d, x) - 1
         w = (x - log_d[k]) / (log_d[k + 1] - log_d[k])
         return math.exp(log_y[k] + w * (log_y[k + 1] - log_y[k])), us[k] + w * (us[k + 1] - us[k])
@@ -403,8 +410,8 @@ def solve_exact(problem: MoveProblem, params: AxisParams) -> ExactSolution:
     if D == 0.0:
         return ExactSolution(problem.t_min_s, problem.w0 * problem.t_min_s, 0.0, "zero-length", {})
     lm = law_model(problem.law, params)
-    t_feas, t_below, active = min_feasible_duration(problem, params, lm)
     if problem.case is Case.MIN_TIME:
+        t_feas, t_below, active = min_feasible_duration(problem, params, lm)
         return ExactSolution(
             t_feas,
             problem.w0 * t_feas,
@@ -412,22 +419,28 @@ def solve_exact(problem: MoveProblem, params: AxisParams) -> ExactSolution:
             active,
             {"t_lower_s": t_below, "t_upper_s": t_feas, "gap_s": t_feas - t_below},
         )
-    return _time_energy(problem, params, lm, D, t_feas, active)
+    # case 2: the signed optimum D/β* projected on the bounds; if it meets the limits the smallest
+    # feasible duration is not needed (feasibility is monotone), otherwise it is the answer
+    beta = optimal_speed_ratio(problem.law, params, problem.omega)
+    t_free = D / beta if beta > 0.0 else math.inf
+    t_c = min(max(t_free, problem.t_min_s), problem.t_max_s)
+    active = "optimum" if t_c == t_free else ("t_min" if t_c == problem.t_min_s else "t_max")
+    if (
+        problem.law.peak_velocity_factor * D <= params.v_max * t_c
+        and lm.peak_force(1.0 / t_c, D, lm.u_acc_peak)[0] <= lm.f_max_n
+    ):
+        t_s = t_c
+    else:
+        t_s, _, active = min_feasible_duration(problem, params, lm)
+    return _time_energy(problem, params, lm, D, t_s, active)
 
 
 def _time_energy(
-    problem: MoveProblem, params: AxisParams, lm: LawModel, D: float, t_feas: float, active: str
+    problem: MoveProblem, params: AxisParams, lm: LawModel, D: float, t_s: float, active: str
 ) -> ExactSolution:
+    """Case 2 from the signed optimum ``t_s`` (already feasible and inside the bounds)."""
     omega = problem.omega
     t_max = problem.t_max_s
-    beta = optimal_speed_ratio(problem.law, params, omega)
-    t_free = D / beta if beta > 0.0 else math.inf
-    if t_free <= t_feas:
-        t_s = t_feas
-    elif t_free >= t_max:
-        t_s, active = t_max, "t_max"
-    else:
-        t_s, active = t_free, "optimum"
 
     def j_signed(t: float) -> float:
         return omega * t + (1.0 - omega) * lm.signed_energy(D, t)
@@ -436,9 +449,7 @@ def _time_energy(
     if acc is EnergyAccounting.SIGNED:
         e = lm.signed_energy(D, t_s)
         slope = omega + (1.0 - omega) * lm.signed_energy_slope(D, t_s)
-        return ExactSolution(
-            t_s, omega * t_s + (1 - omega) * e, e, active, {"gap_j": 0.0, "dJ_dT": slope, "t_feas_s": t_feas}
-        )
+        return ExactSolution(t_s, omega * t_s + (1 - omega) * e, e, active, {"gap_j": 0.0, "dJ_dT": slope})
     c = 1.0 if acc is EnergyAccounting.POSITIVE else 2.0
     cw = c * (1.0 - omega)
     r_s = lm.braking_energy(D, t_s)
@@ -446,7 +457,7 @@ def _time_energy(
     if r_s == 0.0 or t_s >= t_max:
         # R ≥ 0 is non-increasing: R(T_s) = 0 makes J = J_s on [T_s, ∞), minimised at T_s
         e = lm.signed_energy(D, t_s) + c * r_s
-        return ExactSolution(t_s, j_best, e, active, {"gap_j": 0.0, "t_feas_s": t_feas})
+        return ExactSolution(t_s, j_best, e, active, {"gap_j": 0.0})
     # J_s is increasing on [T_s, ∞) (convex, minimised at T_s): beyond T_up, J ≥ J_s > J(T_s)
     t_up = t_s * 2.0
     while t_up < t_max and j_signed(t_up) <= j_best:
@@ -499,7 +510,7 @@ def _time_energy(
         j_opt,
         e,
         active,
-        {"gap_j": max(j_opt - lb, 0.0), "t_lower_s": a, "t_upper_s": b, "t_feas_s": t_feas},
+        {"gap_j": max(j_opt - lb, 0.0), "t_lower_s": a, "t_upper_s": b},
     )
 
 
