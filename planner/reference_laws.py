@@ -1,0 +1,264 @@
+"""Reference laws: what the axis can do at its limits, with the full friction model of eq. (1).
+
+In the frame where the move runs forward (v ≥ 0) the cart obeys M·v̇ = F − φ(v), with
+φ(v) = a1 + a2·v + a3·atan(a4·v) and the motor force bounded by |F| ≤ F_max = tau_max·i_r/r.
+
+**Time-optimal law (bang–cruise–bang).** Full driving force, then (if v_max is reached) a cruise at
+v_max with F = φ(v_max), then full braking force F = −F_max, during which friction helps:
+
+    accelerating to V:  t_a(V) = ∫₀ⱽ M/(F_max − φ(w)) dw,   x_a(V) = ∫₀ⱽ M·w/(F_max − φ(w)) dw
+    braking from V:     t_b(V) = ∫₀ⱽ M/(F_max + φ(w)) dw,   x_b(V) = ∫₀ⱽ M·w/(F_max + φ(w)) dw
+
+The peak velocity V solves x_a(V) + x_b(V) = D (if that V ≤ v_max; otherwise V = v_max and the
+rest is cruise). Because friction opposes acceleration and helps braking, x_a > x_b: the switch is
+past mid-stroke. Pontryagin's principle gives this bang–bang structure for min T s.t. the limits.
+
+**Least-energy profile at a given duration T.** Among profiles that accelerate at full force to a
+cruise speed V_c, cruise, coast (F = 0, friction decelerates: M·v̇ = −φ(v)) down to V_b and brake at
+full force, the one with the least energy under the accounting g:
+
+* signed: E = friction work ∫φ(v)·dx; with no coasting (V_b = V_c) this is the profile of the paper
+  notes (full-force ramps, flat cruise): the cruise speed V_c is the smallest that still makes T;
+* positive/absolute: braking energy is not refunded, coasting is free, so the coast–brake split is
+  optimised (one variable, bounded Brent search; V_c follows from the duration).
+
+Energies in closed form per phase: accelerating F_max·x_a, cruise φ(V_c)·x_c, coast 0, braking
+g(−F_max·x_b) (signed −F_max·x_b, positive 0, absolute +F_max·x_b).
+
+The least-energy profile is optimal within that family (which contains the signed-energy optimum
+when ψ(v) = φ(v) + λ/v is convex on the speeds used; docs/planner.md). It is a reference, not a
+planner back-end: all quadratures are 16-point Gauss–Legendre on graded panels (≈1e-12 relative).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+from scipy.optimize import brentq, minimize_scalar
+
+from ..model import AxisParams, EnergyAccounting, MoveError
+from .errors import InfeasibleMoveError
+
+REFERENCE_LAWS: tuple[str, ...] = ("bang", "least-energy")
+"""names of the reference laws, as accepted by ``--law``"""
+
+_X, _W = np.polynomial.legendre.leggauss(16)
+_EDGES = np.array([0.0, 1e-3, 1e-2, 0.05, 0.2, 0.5, 1.0])
+
+
+class ReferenceLawError(MoveError):
+    """The axis cannot follow the reference law (e.g. friction at v_max exceeds the force limit)."""
+
+
+def _friction(params: AxisParams, v: np.ndarray | float) -> np.ndarray | float:
+    return params.a1 + params.a2 * v + params.a3 * np.arctan(params.a4 * v)
+
+
+def _integral(f, lo: float, hi: float) -> float:  # noqa: ANN001 - f: ndarray -> ndarray
+    """∫_lo^hi f(w) dw on panels graded towards lo (where atan(a4·w) turns)."""
+    if hi <= lo:
+        return 0.0
+    edges = lo + (hi - lo) * _EDGES
+    a, b = edges[:-1, None], edges[1:, None]
+    x = 0.5 * (a + b) + 0.5 * (b - a) * _X
+    return float(np.sum(0.5 * (b - a) * _W * f(x)))
+
+
+@dataclass(frozen=True)
+class _Phases:
+    params: AxisParams
+
+    def accel(self, v: float) -> tuple[float, float]:
+        """(t_a, x_a): time and distance to accelerate from rest to v at full force."""
+        p = self.params
+        f = p.f_max
+        t = _integral(lambda w: p.M_eq / (f - _friction(p, w)), 0.0, v)
+        x = _integral(lambda w: p.M_eq * w / (f - _friction(p, w)), 0.0, v)
+        return t, x
+
+    def brake(self, v_hi: float, v_lo: float = 0.0) -> tuple[float, float]:
+        """(t_b, x_b): time and distance to brake from v_hi to v_lo at full braking force."""
+        p = self.params
+        f = p.f_max
+        t = _integral(lambda w: p.M_eq / (f + _friction(p, w)), v_lo, v_hi)
+        x = _integral(lambda w: p.M_eq * w / (f + _friction(p, w)), v_lo, v_hi)
+        return t, x
+
+    def coast(self, v_hi: float, v_lo: float) -> tuple[float, float]:
+        """(t_c, x_c): time and distance to coast (F = 0) from v_hi down to v_lo."""
+        p = self.params
+        t = _integral(lambda w: p.M_eq / _friction(p, w), v_lo, v_hi)
+        x = _integral(lambda w: p.M_eq * w / _friction(p, w), v_lo, v_hi)
+        return t, x
+
+
+@dataclass(frozen=True)
+class ReferenceProfile:
+    """A rest-to-rest profile made of phases: full force, cruise, coast, full braking."""
+
+    law: str
+    distance_m: float
+    cruise_velocity_m_s: float
+    """the top speed V_c [m/s]"""
+    brake_velocity_m_s: float
+    """the speed V_b [m/s] at which coasting ends and full braking starts (V_b = V_c: no coast)"""
+    accel_time_s: float
+    cruise_time_s: float
+    coast_time_s: float
+    brake_time_s: float
+    accel_distance_m: float
+    cruise_distance_m: float
+    coast_distance_m: float
+    brake_distance_m: float
+    energy_j: dict[str, float]
+    """energy [J] under each accounting (signed, positive, absolute)"""
+
+    @property
+    def duration_s(self) -> float:
+        return self.accel_time_s + self.cruise_time_s + self.coast_time_s + self.brake_time_s
+
+    @property
+    def switch_fraction(self) -> float:
+        """Where the braking starts, as a fraction of the stroke (0.5 = mid-stroke)."""
+        if self.distance_m == 0.0:
+            return 0.5
+        return (self.distance_m - self.brake_distance_m) / self.distance_m
+
+    def energy(self, accounting: EnergyAccounting | str) -> float:
+        return self.energy_j[EnergyAccounting(accounting).value]
+
+
+def _profile(
+    law: str, params: AxisParams, D: float, v_c: float, v_b: float, phases: _Phases
+) -> ReferenceProfile | None:
+    """The phase profile with top speed v_c and brake speed v_b ≤ v_c, or None if it overshoots D."""
+    t_a, x_a = phases.accel(v_c)
+    t_k, x_k = phases.coast(v_c, v_b) if v_b < v_c else (0.0, 0.0)
+    t_b, x_b = phases.brake(v_b)
+    x_c = D - x_a - x_k - x_b
+    if x_c < -1e-12 * max(D, 1e-300):
+        return None
+    x_c = max(x_c, 0.0)
+    f = params.f_max
+    work = f * x_a + float(_friction(params, v_c)) * x_c
+    return ReferenceProfile(
+        law=law,
+        distance_m=D,
+        cruise_velocity_m_s=v_c,
+        brake_velocity_m_s=v_b,
+        accel_time_s=t_a,
+        cruise_time_s=x_c / v_c if v_c > 0 else 0.0,
+        coast_time_s=t_k,
+        brake_time_s=t_b,
+        accel_distance_m=x_a,
+        cruise_distance_m=x_c,
+        coast_distance_m=x_k,
+        brake_distance_m=x_b,
+        energy_j={"signed": work - f * x_b, "positive": work, "absolute": work + f * x_b},
+    )
+
+
+def _check_axis(params: AxisParams) -> None:
+    phi_vmax = float(_friction(params, params.v_max))
+    if phi_vmax >= params.f_max:
+        raise ReferenceLawError(
+            f"friction at v_max = {params.v_max} m/s is {phi_vmax:.6g} N, not below the force limit "
+            f"F_max = {params.f_max:.6g} N (tau_max = {params.tau_max} N·m): the axis cannot reach v_max"
+        )
+
+
+def time_optimal(distance_m: float, params: AxisParams) -> ReferenceProfile:
+    """The bang–cruise–bang minimum-time profile over |distance_m| (see the module docstring)."""
+    D = abs(float(distance_m))
+    if not math.isfinite(D):
+        raise MoveError(f"distance_m = {distance_m} m is not finite")
+    if D > params.L * (1 + 1e-12):
+        raise MoveError(f"distance_m = {distance_m} m is longer than the stroke L = {params.L} m")
+    return _time_optimal(D, params)
+
+
+@lru_cache(maxsize=4096)
+def _time_optimal(D: float, params: AxisParams) -> ReferenceProfile:
+    _check_axis(params)
+    ph = _Phases(params)
+    if D == 0.0:
+        return _profile("bang", params, 0.0, 0.0, 0.0, ph)  # type: ignore[return-value]
+
+    def overshoot(v: float) -> float:
+        return ph.accel(v)[1] + ph.brake(v)[1] - D
+
+    v = params.v_max if overshoot(params.v_max) <= 0.0 else brentq(overshoot, 0.0, params.v_max, xtol=1e-15)
+    prof = _profile("bang", params, D, v, v, ph)
+    assert prof is not None  # v was chosen so that the ramps fit
+    return prof
+
+
+def least_energy(
+    distance_m: float, duration_s: float, params: AxisParams, accounting: EnergyAccounting | str | None = None
+) -> ReferenceProfile:
+    """The least-energy profile of the family above that covers |distance_m| in ``duration_s``."""
+    acc = params.energy_accounting if accounting is None else EnergyAccounting(accounting)
+    D = abs(float(distance_m))
+    fastest = time_optimal(D, params)
+    T = float(duration_s)
+    if not math.isfinite(T) or T <= 0.0:
+        raise MoveError(f"duration_s = {duration_s} s must be a finite number > 0 s")
+    if D == 0.0:
+        return fastest
+    if fastest.duration_s * (1 - 1e-12) > T:
+        raise InfeasibleMoveError(
+            f"duration_s = {T:.6g} s is shorter than the time-optimal {fastest.duration_s:.6g} s for "
+            f"{D:.6g} m under v_max = {params.v_max} m/s and tau_max = {params.tau_max} N·m"
+        )
+    if fastest.duration_s >= T:
+        return fastest
+    return _least_energy(D, T, params, acc)
+
+
+@lru_cache(maxsize=8192)
+def _least_energy(D: float, T: float, params: AxisParams, acc: EnergyAccounting) -> ReferenceProfile:
+    ph = _Phases(params)
+    v_top = _time_optimal(D, params).cruise_velocity_m_s
+
+    def with_ratio(r: float) -> ReferenceProfile | None:
+        """The profile with V_b = r·V_c whose duration is T (None if no V_c ≤ v_max gives T)."""
+
+        def ramps(v_c: float) -> float:
+            x_k = ph.coast(v_c, r * v_c)[1] if r < 1.0 else 0.0
+            return ph.accel(v_c)[1] + x_k + ph.brake(r * v_c)[1] - D
+
+        # the largest top speed whose ramps (and coast) still fit the distance
+        v_fit = v_top if ramps(v_top) <= 0.0 else brentq(ramps, 0.0, v_top, xtol=1e-15) * (1 - 1e-13)
+
+        def excess(v_c: float) -> float:
+            prof = _profile("least-energy", params, D, v_c, r * v_c, ph)
+            return -math.inf if prof is None else T - prof.duration_s
+
+        if excess(v_fit) < 0.0:
+            return None
+        lo = v_fit
+        while excess(lo) >= 0.0:
+            lo *= 0.5
+        v_c = brentq(excess, lo, v_fit, xtol=1e-15, rtol=1e-14)
+        return _profile("least-energy", params, D, v_c, r * v_c, ph)
+
+    if acc is EnergyAccounting.SIGNED:
+        prof = with_ratio(1.0)
+        assert prof is not None
+        return prof
+
+    def cost(r: float) -> float:
+        prof = with_ratio(r)
+        return math.inf if prof is None else prof.energy(acc)
+
+    best = with_ratio(1.0)
+    assert best is not None
+    res = minimize_scalar(cost, bounds=(0.0, 1.0), method="bounded", options={"xatol": 1e-7})
+    for r in (float(res.x), 0.0):
+        cand = with_ratio(r)
+        if cand is not None and cand.energy(acc) < best.energy(acc):
+            best = cand
+    return best
