@@ -1,0 +1,361 @@
+"""Pipeline: the most simulated 1 kHz axes whose samples all reach the MCAP file, latency, throughput.
+
+Steps (each in fresh processes on loopback: one recorder ``axisflow record`` and one publisher
+process that plays N simulated axes, i.e. N telemetry publishers at 1 kHz with real-time pacing,
+JointState payloads pre-encoded and only the stamp patched per tick):
+
+1. baseline: a plain ``mcap.writer.Writer`` (zstd) writing pre-encoded JointState messages as fast as
+   it can, in this process;
+2. capacity: N = 8, 16, 32, 48, 64, … axes for ``--seconds`` each, stopping at the first N with a loss
+   (or when ``--budget`` runs out): per step, published vs recorded messages, sequence gaps,
+   end-to-end latency p50/p99 from sample stamp (header.stamp) to write (MCAP log_time), and the
+   recorder's peak RSS;
+3. throughput: a flood of messages published as fast as the recorder accepts them (blocking
+   congestion control); recorder messages/s next to the baseline's, with their ratio;
+4. memory: the recorder's RSS sampled over a longer run (``--memory-seconds``, 16 axes): the growth
+   between the first quarter and the end of the run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import signal
+import socket
+import struct
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+CLI = [sys.executable, "-c", "import sys; from axisflow.cli import main; sys.exit(main())"]
+PUBLISHER = [
+    sys.executable,
+    "-c",
+    "import sys; from axisflow.benchmarks.pipeline import publisher_main; publisher_main()",
+]
+DEFAULT_AXES = "8,16,32,48,64,96"
+KEEP_UP_P99_US = 100_000.0
+"""a step passes if nothing is lost *and* the recorder keeps up in real time: p99 stamp→write ≤ 100 ms
+(a recorder that falls behind still loses nothing while its queue absorbs the backlog, but only for a
+while)"""
+_STAMP = struct.Struct("<iI")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--axes", default=DEFAULT_AXES, help=f"axis counts to try, ascending (default {DEFAULT_AXES})"
+    )
+    parser.add_argument("--seconds", type=float, default=3.0, help="run time per axis count [s] (default 3)")
+    parser.add_argument(
+        "--budget", type=float, default=60.0, help="stop the capacity search after [s] (default 60)"
+    )
+    parser.add_argument(
+        "--flood", type=int, default=200_000, help="messages in the throughput flood (default 200000)"
+    )
+    parser.add_argument(
+        "--memory-seconds",
+        type=float,
+        default=20.0,
+        help="length of the memory run [s] (default 20; 0 = skip)",
+    )
+
+
+# --------------------------------------------------------------------------- publisher process
+
+
+def _payload_template(axis: str) -> bytearray:
+    from axisflow.acquisition import AxisSample
+
+    return bytearray(AxisSample(0, axis, 0.4, 0.1, 12.0, 133.0, 33.0, 0.05).encode())
+
+
+def publisher_main() -> None:
+    """Entry of the publisher process: ``PORT AXES SECONDS SPEED``; prints one JSON line."""
+    from axisflow.acquisition import ZenohOptions, open_session
+    from axisflow.acquisition.publisher import SequencedPublisher, Traffic, wait_for_subscribers
+
+    port, n_axes, seconds, speed = int(sys.argv[1]), int(sys.argv[2]), float(sys.argv[3]), float(sys.argv[4])
+    traffic = Traffic.TELEMETRY if speed > 0 else Traffic.BULK
+    with open_session(ZenohOptions.loopback(connect_port=port)) as session:
+        pubs = [
+            SequencedPublisher(session, f"axisflow/bench{i}/state", "sensor_msgs/msg/JointState", traffic)
+            for i in range(n_axes)
+        ]
+        templates = [_payload_template(f"bench{i}") for i in range(n_axes)]
+        matched = wait_for_subscribers(pubs, 15.0)
+        n_ticks = round(seconds * 1000)
+        late = 0
+        t0 = time.monotonic_ns()
+        for k in range(n_ticks):
+            if speed > 0:
+                deadline = t0 + k * 1_000_000
+                now = time.monotonic_ns()
+                if deadline > now:
+                    time.sleep((deadline - now) * 1e-9)
+                elif now - deadline > 2_000_000:
+                    late += 1
+            stamp = time.time_ns()
+            for pub, buf in zip(pubs, templates, strict=True):
+                _STAMP.pack_into(buf, 4, *divmod(stamp, 1_000_000_000))
+                pub.put(bytes(buf), stamp)
+        wall = (time.monotonic_ns() - t0) * 1e-9
+        for pub in pubs:
+            pub.undeclare()
+    print(
+        json.dumps({"matched": matched, "ticks": n_ticks, "axes": n_axes, "wall_s": wall, "late_ticks": late})
+    )
+
+
+# --------------------------------------------------------------------------- helpers
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _rss_kb(pid: int, field: str = "VmRSS") -> int:
+    try:
+        for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+            if line.startswith(field + ":"):
+                return int(line.split()[1])
+    except OSError:
+        pass
+    return 0
+
+
+def _analyse(path: Path) -> dict[str, object]:
+    """Counts, gaps and stamp→write latency of a benchmark recording."""
+    from axisflow.acquisition import iter_recording
+
+    counts: dict[str, int] = {}
+    gaps = 0
+    last: dict[str, int] = {}
+    lat: list[int] = []
+    first_log, last_log = None, 0
+    for rec in iter_recording(path):
+        topic, m = rec.channel.topic, rec.message
+        first_log = m.log_time if first_log is None else min(first_log, m.log_time)
+        last_log = max(last_log, m.log_time)
+        counts[topic] = counts.get(topic, 0) + 1
+        prev = last.get(topic)
+        if prev is not None and m.sequence != prev + 1:
+            gaps += m.sequence - prev - 1
+        last[topic] = m.sequence
+        sec, nsec = _STAMP.unpack_from(m.data, 4)
+        lat.append(m.log_time - (sec * 1_000_000_000 + nsec))
+    arr = np.array(lat, dtype=np.int64) if lat else np.zeros(1, dtype=np.int64)
+    return {
+        "recorded": sum(counts.values()),
+        "topics": len(counts),
+        "gaps": gaps,
+        "write_span_s": (last_log - first_log) * 1e-9 if first_log is not None else 0.0,
+        "latency_p50_us": float(np.percentile(arr, 50)) / 1e3,
+        "latency_p99_us": float(np.percentile(arr, 99)) / 1e3,
+    }
+
+
+def _run_step(tmp: Path, n_axes: int, seconds: float, speed: float = 1.0, sample_rss: bool = False) -> dict:
+    """One recorder + one publisher process; returns the step's figures."""
+    port = _free_port()
+    out = tmp / f"bench_{n_axes}_{speed:g}_{time.monotonic_ns()}.mcap"
+    env = {**os.environ, "RUST_LOG": "error"}
+    rec = subprocess.Popen(
+        [*CLI, "record", "-o", str(out), "--listen", f"tcp/127.0.0.1:{port}", "--json"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=env,
+    )
+    rss_trace: list[tuple[float, int]] = []
+    try:
+        while not out.exists():
+            time.sleep(0.02)
+        pub = subprocess.Popen(
+            [*PUBLISHER, str(port), str(n_axes), str(seconds), str(speed)],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+            env=env,
+        )
+        t0 = time.monotonic()
+        while pub.poll() is None:
+            if sample_rss:
+                rss_trace.append((time.monotonic() - t0, _rss_kb(rec.pid)))
+            time.sleep(0.25)
+        pub_out, pub_err = pub.communicate()
+        time.sleep(0.5)  # let the recorder drain its queue
+        peak_kb = _rss_kb(rec.pid, "VmHWM")
+    finally:
+        rec.send_signal(signal.SIGINT)
+        try:
+            rec_out, _ = rec.communicate(timeout=60)
+        except subprocess.TimeoutExpired:
+            rec.kill()
+            rec_out, _ = rec.communicate()
+    if pub.returncode != 0 or not pub_out.strip():
+        raise RuntimeError(f"publisher failed: {pub_err[-2000:]}")
+    p = json.loads(pub_out.strip().splitlines()[-1])
+    summary = json.loads(rec_out) if rec_out.strip() else {}
+    a = _analyse(out)
+    published = p["ticks"] * p["axes"]
+    out.unlink(missing_ok=True)
+    return {
+        "axes": n_axes,
+        "published": published,
+        "recorded": a["recorded"],
+        "lost": published - a["recorded"],
+        "gaps": a["gaps"],
+        "recorder_missed": summary.get("missed"),
+        "zero_loss": published == a["recorded"] and a["gaps"] == 0,
+        "keeps_up": a["latency_p99_us"] <= KEEP_UP_P99_US,
+        "publisher_wall_s": p["wall_s"],
+        "publisher_late_ticks": p["late_ticks"],
+        "latency_p50_us": a["latency_p50_us"],
+        "latency_p99_us": a["latency_p99_us"],
+        "recorder_peak_rss_mb": peak_kb / 1024,
+        "rss_trace": rss_trace,
+        "recorder_wall_s": summary.get("wall_time_s"),
+        "write_span_s": a["write_span_s"],
+    }
+
+
+def _baseline_writer(n: int, tmp: Path) -> float:
+    """Messages/s of a plain mcap Writer (zstd, 1 s-sized chunks) with pre-encoded JointState."""
+    from axisflow.acquisition.messages import JOINT_STATE_SCHEMA
+    from mcap.writer import CompressionType, Writer
+
+    payload = bytes(_payload_template("bench0"))
+    path = tmp / "baseline.mcap"
+    with open(path, "wb") as fh:
+        w = Writer(fh, compression=CompressionType.ZSTD)
+        w.start(profile="ros2")
+        sid = w.register_schema("sensor_msgs/msg/JointState", "ros2msg", JOINT_STATE_SCHEMA.encode())
+        cid = w.register_channel("/axisflow/bench0/state", "cdr", sid)
+        t0 = time.perf_counter()
+        for i in range(n):
+            w.add_message(cid, i, payload, i, i)
+        w.finish()
+        dt = time.perf_counter() - t0
+    path.unlink()
+    return n / dt
+
+
+# --------------------------------------------------------------------------- the benchmark
+
+
+def run(args: argparse.Namespace) -> int:
+    axes_list = [int(a) for a in str(args.axes).split(",") if a.strip()]
+    result: dict[str, object] = {"seconds_per_step": args.seconds}
+    with tempfile.TemporaryDirectory(prefix="axisflow-bench-") as tmpdir:
+        tmp = Path(tmpdir)
+        baseline = _baseline_writer(args.flood, tmp)
+        result["baseline_writer_msgs_per_s"] = baseline
+
+        steps = []
+        t_start = time.monotonic()
+        for n in axes_list:
+            if time.monotonic() - t_start > args.budget:
+                break
+            step = _run_step(tmp, n, args.seconds)
+            step.pop("rss_trace")
+            steps.append(step)
+            _progress(args, f"{n} axes: lost {step['lost']}, gaps {step['gaps']}")
+            if not (step["zero_loss"] and step["keeps_up"]):
+                break
+        result["steps"] = steps
+        ok = [s["axes"] for s in steps if s["zero_loss"] and s["keeps_up"]]
+        result["max_axes_zero_loss"] = max(ok) if ok else 0
+
+        # flood: 8 keys, as fast as the recorder takes them
+        n_keys = 8
+        flood = _run_step(tmp, n_keys, args.flood / n_keys / 1000, speed=0.0)
+        # the recorder's rate: messages over the span of their write times (first to last log_time)
+        flood_rate = flood["recorded"] / flood["write_span_s"] if flood["write_span_s"] else 0.0
+        result["recorder_flood"] = {
+            "messages": flood["recorded"],
+            "lost": flood["lost"],
+            "write_span_s": flood["write_span_s"],
+            "msgs_per_s": flood_rate,
+            "ratio_to_baseline": flood_rate / baseline,
+        }
+        _progress(args, f"flood: {flood_rate:.0f} msg/s")
+
+        if args.memory_seconds > 0:
+            mem = _run_step(tmp, 16, args.memory_seconds, sample_rss=True)
+            trace = [(t, kb / 1024) for t, kb in mem["rss_trace"] if kb > 0]
+            late = [(t, mb) for t, mb in trace if t >= args.memory_seconds / 4]
+            slope = float(np.polyfit(*zip(*late, strict=True), 1)[0]) * 60 if len(late) > 2 else float("nan")
+            first = late[0][1] if late else float("nan")
+            last = trace[-1][1] if trace else float("nan")
+            result["memory"] = {
+                "axes": 16,
+                "seconds": args.memory_seconds,
+                "zero_loss": mem["zero_loss"],
+                "rss_mb_at_quarter": first,
+                "rss_mb_at_end": last,
+                "growth_mb": last - first,
+                "slope_mb_per_min": slope,
+                "peak_rss_mb": mem["recorder_peak_rss_mb"],
+                "rss_mb_at_tenths": [
+                    round(
+                        next((kb for t, kb in trace if t >= args.memory_seconds * i / 10), trace[-1][1])
+                        / 1024,
+                        1,
+                    )
+                    for i in range(1, 11)
+                ]
+                if trace
+                else [],
+            }
+    if args.json:
+        print(json.dumps(result, indent=2))
+    else:
+        _print_table(result)
+    return 0
+
+
+def _progress(args: argparse.Namespace, text: str) -> None:
+    if not args.json:
+        print(f"  … {text}", file=sys.stderr, flush=True)
+
+
+def _print_table(r: dict) -> None:
+    print(f"pipeline benchmark ({r['seconds_per_step']:g} s per step, 1 kHz per axis, loopback Zenoh)")
+    print(
+        f"{'axes':>5} {'msg/s':>7} {'published':>10} {'recorded':>9} {'lost':>5} {'gaps':>5} "
+        f"{'lat p50 µs':>10} {'lat p99 µs':>10} {'rec RSS MB':>10} {'late ticks':>10} {'pass':>5}"
+    )
+    for s in r["steps"]:
+        print(
+            f"{s['axes']:>5} {s['axes'] * 1000:>7} {s['published']:>10} {s['recorded']:>9} {s['lost']:>5} "
+            f"{s['gaps']:>5} {s['latency_p50_us']:>10.0f} {s['latency_p99_us']:>10.0f} "
+            f"{s['recorder_peak_rss_mb']:>10.1f} {s['publisher_late_ticks']:>10} "
+            f"{'yes' if s['zero_loss'] and s['keeps_up'] else 'NO':>5}"
+        )
+    print(
+        f"largest axis count with zero loss, keeping up (p99 <= {KEEP_UP_P99_US / 1e3:.0f} ms): "
+        f"{r['max_axes_zero_loss']} (goal >= 32)"
+    )
+    f = r["recorder_flood"]
+    print(
+        f"throughput: recorder {f['msgs_per_s']:.0f} msg/s over Zenoh ({f['messages']} msgs, "
+        f"lost {f['lost']}) vs plain mcap Writer {r['baseline_writer_msgs_per_s']:.0f} msg/s in-process: "
+        f"ratio {f['ratio_to_baseline']:.2f}"
+    )
+    if "memory" in r:
+        m = r["memory"]
+        print(
+            f"memory: recorder RSS {m['rss_mb_at_quarter']:.1f} MB at {m['seconds'] / 4:g} s -> "
+            f"{m['rss_mb_at_end']:.1f} MB at {m['seconds']:g} s ({m['axes']} axes): "
+            f"growth {m['growth_mb']:+.1f} MB, "
+            f"trend {m['slope_mb_per_min']:+.2f} MB/min from {m['seconds'] / 4:g} s, "
+            f"peak {m['peak_rss_mb']:.1f} MB"
+        )
+        print(f"        RSS MB at each tenth of the run: {m['rss_mb_at_tenths']}")
