@@ -8,6 +8,7 @@ experiment (on the simulated drive over Zenoh) fills ``energy_measured_j`` later
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections import Counter
 from collections.abc import Sequence
@@ -20,6 +21,7 @@ import numpy as np
 from .model import AxisParams, MoveError, polynomial_law
 from .paper import PAPER_TABLE2, PAPER_WAYPOINTS
 from .planner import Case, MoveProblem, PlannerBackend, PlanResult
+from .planner.reference_laws import least_energy, time_optimal
 
 LAWS: tuple[str, ...] = ("poly3", "poly5", "poly7")
 CASES: tuple[Case, ...] = (Case.MIN_TIME, Case.MIN_TIME_ENERGY)
@@ -36,6 +38,15 @@ def draw_waypoints(seed: int, count: int, stroke_m: float) -> np.ndarray:
 
 
 @dataclass(frozen=True)
+class MoveLimits:
+    """The physical limit of one move: the time-optimal (bang–cruise–bang) duration and the least
+    energy of a limit-respecting profile at the planned duration (planner/reference_laws.py)."""
+
+    time_limit_s: float
+    energy_limit_j: float
+
+
+@dataclass(frozen=True)
 class ExperimentRow:
     """One case × law row: the plan of every move between consecutive way points."""
 
@@ -44,6 +55,28 @@ class ExperimentRow:
     solver: str
     omega: float | None
     results: tuple[PlanResult, ...] = field(repr=False)
+    limits: tuple[MoveLimits, ...] | None = field(default=None, repr=False)
+    """per move, when computed (see :func:`physical_limits`)"""
+
+    @property
+    def objective_total(self) -> float:
+        """Σ of each move's objective (eq. 2 or 3), the quantity each solve minimises."""
+        return math.fsum(r.objective for r in self.results)
+
+    @property
+    def time_limit_ratio(self) -> float | None:
+        """T_poly/T_limit over the row: total planned time over total time-optimal time."""
+        if self.limits is None:
+            return None
+        return self.total_time_s / math.fsum(m.time_limit_s for m in self.limits)
+
+    @property
+    def energy_limit_ratio(self) -> float | None:
+        """E_poly/E_limit over the row: total model energy over total least energy at the same
+        durations."""
+        if self.limits is None:
+            return None
+        return self.energy_model_j / math.fsum(m.energy_limit_j for m in self.limits)
 
     @property
     def durations_s(self) -> list[float]:
@@ -84,7 +117,34 @@ class ExperimentRow:
             "t_opt_ms_mean": float(times.mean()),
             "t_opt_ms_std": float(times.std(ddof=1)) if times.size > 1 else 0.0,
             "max_violation": self.max_violation,
+            **self._extra_json(),
         }
+
+    def _extra_json(self) -> dict[str, Any]:
+        """Keys added by issue 3 (the physical limit), after the foundation's keys."""
+        out: dict[str, Any] = {
+            "objective_total": self.objective_total,
+            "statuses": self.status_counts,
+        }
+        if self.limits is not None:
+            out.update(
+                {
+                    "t_limit_s": [m.time_limit_s for m in self.limits],
+                    "e_limit_j": [m.energy_limit_j for m in self.limits],
+                    "t_limit_ratios": [
+                        r.duration_s / m.time_limit_s for r, m in zip(self.results, self.limits, strict=True)
+                    ],
+                    "e_limit_ratios": [
+                        r.energy_j / m.energy_limit_j if m.energy_limit_j > 0 else None
+                        for r, m in zip(self.results, self.limits, strict=True)
+                    ],
+                    "total_time_limit_s": math.fsum(m.time_limit_s for m in self.limits),
+                    "energy_limit_j": math.fsum(m.energy_limit_j for m in self.limits),
+                    "t_limit_ratio": self.time_limit_ratio,
+                    "e_limit_ratio": self.energy_limit_ratio,
+                }
+            )
+        return out
 
 
 @dataclass(frozen=True)
@@ -123,6 +183,18 @@ def plan_row(
     return ExperimentRow(case, law, backend.name, omega if case is Case.MIN_TIME_ENERGY else None, results)
 
 
+def physical_limits(row: ExperimentRow, params: AxisParams) -> ExperimentRow:
+    """The row with its per-move physical limits: T_limit (bang–cruise–bang) and E_limit (least
+    energy at the move's planned duration, under the parameters' accounting)."""
+    limits = []
+    for r in row.results:
+        d = r.problem.distance_m
+        t_lim = time_optimal(d, params).duration_s
+        e_lim = least_energy(d, max(r.duration_s, t_lim), params).energy(params.energy_accounting)
+        limits.append(MoveLimits(t_lim, e_lim))
+    return dataclasses.replace(row, limits=tuple(limits))
+
+
 def run_offline(
     params: AxisParams,
     backend: PlannerBackend,
@@ -132,12 +204,16 @@ def run_offline(
     omega: float = 0.9,
     laws: Sequence[str] = LAWS,
     cases: Sequence[Case] = CASES,
+    limits: bool = True,
 ) -> ExperimentResult:
-    """Plan the experiment's moves for each case × law on the same way points."""
+    """Plan the experiment's moves for each case × law on the same way points (and, with
+    ``limits``, compare each move with the physical limit)."""
     if not 0.0 <= omega <= 1.0 or not math.isfinite(omega):
         raise MoveError(f"omega = {omega} is outside [0, 1]")
     points = draw_waypoints(seed, waypoints, params.L)
     rows = tuple(plan_row(points, case, law, backend, params, omega) for case in cases for law in laws)
+    if limits:
+        rows = tuple(physical_limits(row, params) for row in rows)
     return ExperimentResult(seed, points, params, rows)
 
 
@@ -174,6 +250,31 @@ def table_markdown(result: ExperimentResult) -> str:
             f"| {row.energy_model_j:.0f} | {p_e} | {d_e} | {times.mean():.3f} ± {std:.3f} | {p_opt} "
             f"| {statuses} | {row.max_violation:.2e} |"
         )
+    if any(row.limits is not None for row in result.rows):
+        lines += [
+            "",
+            "## Against the physical limit",
+            "",
+            "| case | law | solver | objective Σ | T [s] | T_limit [s] | T/T_limit | E_th [J] | E_limit [J] "
+            "| E/E_limit |",
+            "|---|---|---|---:|---:|---:|---:|---:|---:|---:|",
+        ]
+        for row in result.rows:
+            if row.limits is None:
+                continue
+            t_lim = math.fsum(m.time_limit_s for m in row.limits)
+            e_lim = math.fsum(m.energy_limit_j for m in row.limits)
+            lines.append(
+                f"| {row.case.value} | {row.law} | {row.solver} | {row.objective_total:.2f} "
+                f"| {row.total_time_s:.2f} | {t_lim:.2f} | {row.time_limit_ratio:.3f} "
+                f"| {row.energy_model_j:.0f} | {e_lim:.0f} | {row.energy_limit_ratio:.3f} |"
+            )
+        lines += [
+            "",
+            "T_limit: Σ of each move's time-optimal (bang–cruise–bang) duration under the same velocity and "
+            "torque limits and the full friction model; E_limit: Σ of the least energy of a limit-respecting "
+            "profile (full-force ramps, cruise, coast, full braking) at each move's planned duration.",
+        ]
     lines += [
         "",
         "T: total execution time of the moves; E_th: model energy (eq. 3) under the accounting above; "

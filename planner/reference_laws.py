@@ -262,3 +262,67 @@ def _least_energy(D: float, T: float, params: AxisParams, acc: EnergyAccounting)
         if cand is not None and cand.energy(acc) < best.energy(acc):
             best = cand
     return best
+
+
+@dataclass(frozen=True)
+class ReferencePlan:
+    """A reference law planned for one move: the chosen duration and its profile."""
+
+    law: str
+    duration_s: float
+    objective: float
+    energy_j: float
+    profile: ReferenceProfile
+    solve_time_s: float
+
+
+def plan_reference(
+    law: str,
+    distance_m: float,
+    params: AxisParams,
+    *,
+    minimise_time: bool = True,
+    omega: float = 0.9,
+    w0: float = 100.0,
+    t_min_s: float = 0.1,
+    t_max_s: float = 3.0,
+) -> ReferencePlan:
+    """Plan a move with a reference law.
+
+    ``bang`` (minimum time only): the bang–cruise–bang duration, raised to ``t_min_s`` if shorter (a
+    longer move is then the least-energy profile at t_min_s). ``least-energy``: for minimum time the
+    same duration; for min ω·T + (1 − ω)·E_least(T) a bounded Brent search over
+    [max(t_min_s, T_bang), t_max_s] (E_least is decreasing and smooth in T in practice; a local
+    optimum, not certified).
+    """
+    import time
+
+    if law not in REFERENCE_LAWS:
+        raise MoveError(f"unknown reference law {law!r}; choose one of {', '.join(REFERENCE_LAWS)}")
+    if law == "bang" and not minimise_time:
+        raise MoveError("the bang law is the minimum-time law: use it with --case min-time")
+    t0 = time.perf_counter()
+    acc = params.energy_accounting
+    fastest = time_optimal(distance_m, params)
+    t_lo = max(t_min_s, fastest.duration_s)
+    if t_lo > t_max_s:
+        raise InfeasibleMoveError(
+            f"no duration in [{t_min_s}, {t_max_s}] s: the time-optimal move over {abs(distance_m):.6g} m "
+            f"takes {fastest.duration_s:.6g} s"
+        )
+    if minimise_time or fastest.distance_m == 0.0:
+        prof = least_energy(distance_m, t_lo, params)
+        t = t_lo
+        obj = w0 * t
+    else:
+
+        def cost(t: float) -> float:
+            return omega * t + (1 - omega) * least_energy(distance_m, t, params).energy(acc)
+
+        res = minimize_scalar(cost, bounds=(t_lo, t_max_s), method="bounded", options={"xatol": 1e-7})
+        t = float(res.x)
+        if cost(t_lo) < res.fun:
+            t = t_lo
+        prof = least_energy(distance_m, t, params)
+        obj = cost(t)
+    return ReferencePlan(law, t, obj, prof.energy(acc), prof, time.perf_counter() - t0)

@@ -44,8 +44,14 @@ def register(sub: argparse._SubParsersAction) -> None:
         default=DEFAULT_OMEGA,
         help="time weight ω of the min-time-energy case (default 0.9)",
     )
+    p.add_argument(
+        "--no-limits",
+        action="store_true",
+        help="skip the comparison with the physical limit (bang–cruise–bang time, least energy)",
+    )
     add_params_option(p)
-    add_solver_options(p)
+    # the experiment reproduces the paper, so its default stays the paper's solver
+    add_solver_options(p, default="ipopt")
     p.set_defaults(func=run)
 
 
@@ -57,7 +63,9 @@ def run(args: argparse.Namespace) -> int:
     params = params_from_args(args)
     backend = backend_from_args(args)
     out = Path(args.out)
-    result = run_offline(params, backend, seed=args.seed, waypoints=args.waypoints, omega=args.omega)
+    result = run_offline(
+        params, backend, seed=args.seed, waypoints=args.waypoints, omega=args.omega, limits=not args.no_limits
+    )
     table = table_markdown(result)
     ensure_dir(out)
     write_atomic(out / "table2.json", json.dumps(result.to_json(), indent=1) + "\n")
