@@ -454,7 +454,7 @@ def _time_energy(
     cw = c * (1.0 - omega)
     r_s = lm.braking_energy(D, t_s)
     j_best = j_signed(t_s) + cw * r_s
-    if r_s == 0.0 or t_s >= t_max:
+    if r_s == 0.0 or t_s >= t_max or omega >= 1.0:
         # R ≥ 0 is non-increasing: R(T_s) = 0 makes J = J_s on [T_s, ∞), minimised at T_s
         e = lm.signed_energy(D, t_s) + c * r_s
         return ExactSolution(t_s, j_best, e, active, {"gap_j": 0.0})
@@ -502,7 +502,7 @@ def _time_energy(
         t_opt, j_opt = best, pts[best][0] + cw * pts[best][1]
     ts = sorted(pts)
     lb = min(pts[a][0] + cw * pts[b][1] for a, b in itertools.pairwise(ts))
-    e = (j_opt - omega * t_opt) / (1.0 - omega)
+    e = lm.signed_energy(D, t_opt) + c * lm.braking_energy(D, t_opt)
     if t_opt > t_s:
         active = "optimum"
     return ExactSolution(

@@ -21,6 +21,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "params_cmd",
     "plan_cmd",
     "experiment_cmd",
+    "pareto_cmd",
     "bench_cmd",
     "bridge_cmd",
     "record_cmd",
