@@ -55,8 +55,10 @@ _NEWTON_MAX = 60
 _GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
 _BRACKET_REL = 1e-11
 """relative width of the proved case-1 bracket"""
-_BNB_CELLS = 24
+_BNB_CELLS = 40
 """branch-and-bound budget (extra energy evaluations) for case 2 with braking energy"""
+_GAP_REL = 1e-7
+"""relative optimality gap at which the branch and bound stops"""
 
 
 def _horner(c: tuple[float, ...], u: float) -> float:
@@ -218,21 +220,46 @@ class LawModel:
         return y_lo, u
 
     def torque_limited_duration(self, D: float) -> tuple[float, float, float]:
-        """T_τ [s]: smallest T with max_u F(u, T) ≤ F_max (Newton from the law's table, see above).
+        """T_τ [s]: smallest T with max_u F(u, T) ≤ F_max.
 
-        Returns (t_upper_s, t_lower_s, u_peak): the peak meets the limit at t_upper_s and exceeds it
-        at t_lower_s (a proof that t_lower_s is infeasible).
+        Newton's method on the pair of equations ∂F/∂u = 0, F = F_max in (u, y = 1/T) from the
+        law's table (2–4 steps); the safeguarded scalar iteration of :meth:`_torque_root` takes over
+        if a step misbehaves. Returns (t_upper_s, t_lower_s, u_peak): the peak meets the limit at
+        t_upper_s and exceeds it at t_lower_s (a proof that t_lower_s is infeasible).
         """
         fmax = self.f_max_n
         y, u = self._table_guess(D)
-        y, u = self._torque_root(D, y, u)
+        fd = self.force_derivatives
+        for _ in range(12):
+            F, Fu, Fuu, Fy, Fuy = fd(u, y, D)
+            G = F - fmax
+            if u <= 0.0 and Fu <= 0.0:  # boundary peak (poly3): solve F(0, y) = F_max in y only
+                du, dy = 0.0, -G / Fy
+            elif Fuu < 0.0:
+                det = Fuu * Fy - Fuy * Fu
+                du = (Fuy * G - Fy * Fu) / det
+                dy = (Fu * Fu - Fuu * G) / det
+            else:
+                y, u = self._torque_root(D, y, u)
+                break
+            u = u + du
+            if u < 0.0:
+                u = 0.0
+            elif u > 0.5:
+                y, u = self._torque_root(D, y, 0.25)
+                break
+            y += dy
+            if abs(dy) <= 1e-15 * y and abs(du) <= 1e-9:
+                break
+        else:
+            y, u = self._torque_root(D, y, u)
         F, _, u = self.peak_force(y, D, u)
         while fmax < F:  # rounding: step to the feasible side
             y *= 1.0 - 4e-16
             F, _, u = self.peak_force(y, D, u)
         t_up = 1.0 / y
         t_low = t_up * (1.0 - _BRACKET_REL)
-        if self.force_derivatives(u, 1.0 / t_low, D)[0] <= fmax:  # pragma: no cover - numerical guard
+        if fd(u, 1.0 / t_low, D)[0] <= fmax:  # pragma: no cover - numerical guard
             t_low = t_up * (1.0 - 1e-8)
         return t_up, t_low, u
 
@@ -283,47 +310,91 @@ class LawModel:
         return -b * b * (self.a2 * self.I2 + self.a3 * self.a4 * self.phi_prime(self.a4 * b))
 
     def braking_energy(self, D: float, T: float) -> float:
-        """R(T) [J] = D·∫ h⁺·s' du over the braking half, h = A·|s''| − φ(β·s'), A = M·β²/D.
+        """R(T) [J]; see :meth:`braking_energy_and_slope`."""
+        return self.braking_energy_and_slope(D, T)[0]
 
-        (Mapped to u' = 1 − u ∈ [0, 1/2]: h = A·s''(u') − φ(β·s'(u')).) The interval where h > 0 is
-        found from the peak of h (Newton) and its two roots (Brent), then integrated by 16-point
-        Gauss–Legendre, so the kink of h⁺ falls on the panel edges.
+    def braking_energy_and_slope(self, D: float, T: float) -> tuple[float, float]:
+        """R(T) [J] and dR/dT [J/s]: R = D·∫ h⁺·s' du over the braking half, h = A·|s''| − φ(β·s').
+
+        Mapped to u' = 1 − u ∈ [0, 1/2]: h = A·s''(u') − φ(β·s'(u')), A = M·β²/D, β = D/T. The
+        interval where h > 0 is bracketed by the peak of h (Newton) and its roots (safeguarded
+        Newton), then integrated by 16-point Gauss–Legendre, so the kink of h⁺ falls on the panel
+        edges. Since h vanishes at the ends of the interval, dR/dT = D·∫ ∂h/∂T·s' du with
+        ∂h/∂T = (−2A·s'' + φ'(β·s')·β·s')/T.
         """
         beta = D / T
         A = self.M * beta * beta / D
         a1, a2, a3, a4 = self.a1, self.a2, self.a3, self.a4
+        c1, c2, c3, c4 = self.c1, self.c2, self.c3, self.c4
 
-        def h(u: float) -> float:
-            v = beta * _horner(self.c1, u)
-            return A * _horner(self.c2, u) - a1 - a2 * v - a3 * math.atan(a4 * v)
+        def h_and_slope(u: float) -> tuple[float, float, float]:
+            s1, s2, s3 = _horner(c1, u), _horner(c2, u), _horner(c3, u)
+            v = beta * s1
+            z = a4 * v
+            fp = a2 + a3 * a4 / (1.0 + z * z)
+            return A * s2 - a1 - a2 * v - a3 * math.atan(z), A * s3 - fp * beta * s2, s2
 
         # peak of h: start at the peak of s''; h' = A s''' − φ'(v)·β·s''
         u = self.u_acc_peak
-        for _ in range(_NEWTON_MAX):
-            s1, s2, s3, s4 = (_horner(c, u) for c in (self.c1, self.c2, self.c3, self.c4))
-            v = beta * s1
-            z = a4 * v
-            q = 1.0 / (1.0 + z * z)
-            fp = a2 + a3 * a4 * q
-            fpp = -2.0 * a3 * a4 * a4 * z * q * q
-            hu = A * s3 - fp * beta * s2
-            huu = A * s4 - fpp * (beta * s2) ** 2 - fp * beta * s3
-            step = -hu / huu if huu < 0 else (0.02 if hu > 0 else -0.02)
-            new = min(max(u + step, 0.0), 0.5)
-            if abs(new - u) <= 1e-14:
+        lo_b, hi_b = 0.0, 0.5
+        h0, hu0, _ = h_and_slope(0.0)
+        if hu0 < 0.0:
+            u = 0.0
+        else:
+            for _ in range(_NEWTON_MAX):
+                s1, s2, s3, s4 = _horner(c1, u), _horner(c2, u), _horner(c3, u), _horner(c4, u)
+                v = beta * s1
+                z = a4 * v
+                q = 1.0 / (1.0 + z * z)
+                fp = a2 + a3 * a4 * q
+                fpp = -2.0 * a3 * a4 * a4 * z * q * q
+                hu = A * s3 - fp * beta * s2
+                huu = A * s4 - fpp * (beta * s2) ** 2 - fp * beta * s3
+                if hu > 0.0:
+                    lo_b = u
+                else:
+                    hi_b = u
+                new = u - hu / huu if huu < 0.0 else -1.0
+                if not lo_b < new < hi_b:
+                    new = 0.5 * (lo_b + hi_b)
+                if abs(new - u) <= 1e-12 or hi_b - lo_b <= 1e-13:
+                    u = new
+                    break
                 u = new
-                break
-            u = new
-        if h(u) <= 0.0:
-            return 0.0
-        lo = 0.0 if h(0.0) > 0.0 else brentq(h, 0.0, u, xtol=1e-15, rtol=1e-15)
-        hi = brentq(h, u, 0.5, xtol=1e-15, rtol=1e-15)
+        h_peak = h_and_slope(u)[0]
+        if h_peak <= 0.0:
+            return 0.0, 0.0
+
+        def root(a: float, b: float) -> float:
+            """the zero of h between a (h(a) ≤ 0 or > 0) and b, h changing sign (safeguarded Newton)."""
+            fa = h_and_slope(a)[0]
+            x = 0.5 * (a + b)
+            for _ in range(_NEWTON_MAX):
+                fx, dx, _ = h_and_slope(x)
+                if (fx > 0.0) == (fa > 0.0):
+                    a, fa = x, fx
+                else:
+                    b = x
+                new = x - fx / dx if dx != 0.0 else -1.0
+                if not min(a, b) < new < max(a, b):
+                    new = 0.5 * (a + b)
+                if abs(new - x) <= 1e-15 or abs(b - a) <= 1e-15:
+                    return new
+                x = new
+            return x
+
+        lo = 0.0 if h0 > 0.0 else root(0.0, u)
+        hi = root(u, 0.5)
         half = 0.5 * (hi - lo)
         x = lo + half * (_GL16_X + 1.0)
-        s1 = np.polyval(self.c1, x)
+        s1 = np.polyval(c1, x)
+        s2 = np.polyval(c2, x)
         v = beta * s1
-        hv = A * np.polyval(self.c2, x) - a1 - a2 * v - a3 * np.arctan(a4 * v)
-        return D * half * float(np.dot(_GL16_W, np.maximum(hv, 0.0) * s1))
+        z = a4 * v
+        hv = np.maximum(A * s2 - a1 - a2 * v - a3 * np.arctan(z), 0.0)
+        dh = (-2.0 * A * s2 + (a2 + a3 * a4 / (1.0 + z * z)) * v) / T
+        w = D * half * _GL16_W * s1
+        return float(np.dot(w, hv)), float(np.dot(w, dh))
 
 
 @lru_cache(maxsize=256)
@@ -452,7 +523,7 @@ def _time_energy(
         return ExactSolution(t_s, omega * t_s + (1 - omega) * e, e, active, {"gap_j": 0.0, "dJ_dT": slope})
     c = 1.0 if acc is EnergyAccounting.POSITIVE else 2.0
     cw = c * (1.0 - omega)
-    r_s = lm.braking_energy(D, t_s)
+    r_s, dr_s = lm.braking_energy_and_slope(D, t_s)
     j_best = j_signed(t_s) + cw * r_s
     if r_s == 0.0 or t_s >= t_max or omega >= 1.0:
         # R ≥ 0 is non-increasing: R(T_s) = 0 makes J = J_s on [T_s, ∞), minimised at T_s
@@ -463,54 +534,77 @@ def _time_energy(
     while t_up < t_max and j_signed(t_up) <= j_best:
         t_up *= 2.0
     t_up = min(t_up, t_max)
-    # branch and bound on cells [a, b]: min J ≥ J_s(a) + cw·R(b)
-    pts = {t_s: (j_signed(t_s), r_s), t_up: (j_signed(t_up), lm.braking_energy(D, t_up))}
-    for t in np.linspace(t_s, t_up, 9)[1:-1]:
-        pts[float(t)] = (j_signed(float(t)), lm.braking_energy(D, float(t)))
+    evals: dict[float, tuple[float, float, float, float, float]] = {}
+
+    def point(t: float) -> tuple[float, float, float, float, float]:
+        """(J_s, R, dJ/dT, dJ_s/dT, dR/dT) at t, memoised."""
+        got = evals.get(t)
+        if got is None:
+            r, dr = lm.braking_energy_and_slope(D, t)
+            djs = omega + (1.0 - omega) * lm.signed_energy_slope(D, t)
+            got = evals[t] = (j_signed(t), r, djs + cw * dr, djs, dr)
+        return got
+
+    djs_s = omega + (1.0 - omega) * lm.signed_energy_slope(D, t_s)
+    evals[t_s] = (j_signed(t_s), r_s, djs_s + cw * dr_s, djs_s, dr_s)
+    # local optimum: safeguarded secant (Illinois) on dJ/dT in [T_s, T_up]
+    a, b = t_s, t_up
+    ga, gb = point(a)[2], point(b)[2]
+    if ga < 0.0 < gb:
+        for _ in range(_NEWTON_MAX):
+            x = b - gb * (b - a) / (gb - ga)
+            if not a < x < b:
+                x = 0.5 * (a + b)
+            gx = point(x)[2]
+            if gx > 0.0:
+                b, gb = x, gx
+                ga *= 0.5 if gx * gb > 0 else 1.0
+            else:
+                a, ga = x, gx
+            if b - a <= 1e-12 * b or gx == 0.0:
+                break
+    # branch and bound over [T_s, T_up]: on a cell [p, q], J ≥ J_s(p) + cw·R(q)
+    for t in np.linspace(t_s, t_up, 5)[1:-1]:
+        point(float(t))
+    lb = -math.inf
     for _ in range(_BNB_CELLS):
-        ts = sorted(pts)
-        lbs = [pts[a][0] + cw * pts[b][1] for a, b in itertools.pairwise(ts)]
-        best = min(ts, key=lambda t: pts[t][0] + cw * pts[t][1])
-        j_best = pts[best][0] + cw * pts[best][1]
+        ts = sorted(evals)
+        best = min(ts, key=lambda t: evals[t][0] + cw * evals[t][1])
+        j_best = evals[best][0] + cw * evals[best][1]
+        lbs = [evals[p][0] + cw * evals[q][1] for p, q in itertools.pairwise(ts)]
         k = int(np.argmin(lbs))
-        if j_best - lbs[k] <= 1e-9 * abs(j_best):
+        lb = min(lbs[k], j_best)
+        tol = _GAP_REL * abs(j_best)
+        if j_best - lb <= tol:
             break
-        mid = 0.5 * (ts[k] + ts[k + 1])
-        pts[mid] = (j_signed(mid), lm.braking_energy(D, mid))
-    ts = sorted(pts)
-
-    def j_total(t: float) -> float:
-        return j_signed(t) + cw * lm.braking_energy(D, t)
-
-    best = min(ts, key=lambda t: pts[t][0] + cw * pts[t][1])
+        # split the weakest cell; next to the incumbent, where the bound's deficit is the slope of R
+        # (left end) or of J_s (right end) times the width, cut off a sliver that will meet the gap
+        p, q = ts[k], ts[k + 1]
+        x = 0.5 * (p + q)
+        if p == best and evals[p][4] < 0.0:
+            x = p + min(0.5 * (q - p), max(0.5 * tol / (cw * -evals[p][4]), (q - p) / 64.0))
+        elif q == best and evals[q][3] > 0.0:
+            x = q - min(0.5 * (q - p), max(0.5 * tol / evals[q][3], (q - p) / 64.0))
+        point(x)
+    ts = sorted(evals)
+    best = min(ts, key=lambda t: evals[t][0] + cw * evals[t][1])
+    j_best = evals[best][0] + cw * evals[best][1]
+    lb = min(min(evals[p][0] + cw * evals[q][1] for p, q in itertools.pairwise(ts)), j_best)
     i = ts.index(best)
-    a, b = ts[max(i - 1, 0)], ts[min(i + 1, len(ts) - 1)]
-    # golden-section polish inside the best point's neighbourhood
-    x1, x2 = b - _GOLDEN * (b - a), a + _GOLDEN * (b - a)
-    f1, f2 = j_total(x1), j_total(x2)
-    while b - a > 1e-10 * b:
-        if f1 <= f2:
-            b, x2, f2 = x2, x1, f1
-            x1 = b - _GOLDEN * (b - a)
-            f1 = j_total(x1)
-        else:
-            a, x1, f1 = x1, x2, f2
-            x2 = a + _GOLDEN * (b - a)
-            f2 = j_total(x2)
-    t_opt, j_opt = (x1, f1) if f1 <= f2 else (x2, f2)
-    if j_opt > pts[best][0] + cw * pts[best][1]:
-        t_opt, j_opt = best, pts[best][0] + cw * pts[best][1]
-    ts = sorted(pts)
-    lb = min(pts[a][0] + cw * pts[b][1] for a, b in itertools.pairwise(ts))
-    e = lm.signed_energy(D, t_opt) + c * lm.braking_energy(D, t_opt)
-    if t_opt > t_s:
+    e = lm.signed_energy(D, best) + c * evals[best][1]
+    if best > t_s:
         active = "optimum"
     return ExactSolution(
-        t_opt,
-        j_opt,
+        best,
+        j_best,
         e,
         active,
-        {"gap_j": max(j_opt - lb, 0.0), "t_lower_s": a, "t_upper_s": b},
+        {
+            "gap_j": j_best - lb,
+            "t_lower_s": ts[max(i - 1, 0)],
+            "t_upper_s": ts[min(i + 1, len(ts) - 1)],
+            "dJ_dT": evals[best][2],
+        },
     )
 
 
