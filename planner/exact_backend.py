@@ -55,10 +55,6 @@ _NEWTON_MAX = 60
 _GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
 _BRACKET_REL = 1e-11
 """relative width of the proved case-1 bracket"""
-_BNB_CELLS = 40
-"""branch-and-bound budget (extra energy evaluations) for case 2 with braking energy"""
-_GAP_REL = 1e-7
-"""relative optimality gap at which the branch and bound stops"""
 
 
 def _horner(c: tuple[float, ...], u: float) -> float:
@@ -524,87 +520,65 @@ def _time_energy(
     c = 1.0 if acc is EnergyAccounting.POSITIVE else 2.0
     cw = c * (1.0 - omega)
     r_s, dr_s = lm.braking_energy_and_slope(D, t_s)
-    j_best = j_signed(t_s) + cw * r_s
-    if r_s == 0.0 or t_s >= t_max or omega >= 1.0:
-        # R ≥ 0 is non-increasing: R(T_s) = 0 makes J = J_s on [T_s, ∞), minimised at T_s
+    j_s = j_signed(t_s) + cw * r_s
+    g_s = omega + (1.0 - omega) * (lm.signed_energy_slope(D, t_s) + c * dr_s)
+    if r_s == 0.0 or t_s >= t_max or omega >= 1.0 or g_s >= 0.0:
+        # J is convex (see the module docstring) and non-increasing on [T_feas, T_s]; dJ/dT ≥ 0 at
+        # T_s (or R = 0 there, so J = J_s from T_s on) makes T_s the global minimiser
         e = lm.signed_energy(D, t_s) + c * r_s
-        return ExactSolution(t_s, j_best, e, active, {"gap_j": 0.0})
-    # J_s is increasing on [T_s, ∞) (convex, minimised at T_s): beyond T_up, J ≥ J_s > J(T_s)
-    t_up = t_s * 2.0
-    while t_up < t_max and j_signed(t_up) <= j_best:
-        t_up *= 2.0
-    t_up = min(t_up, t_max)
-    evals: dict[float, tuple[float, float, float, float, float]] = {}
+        return ExactSolution(t_s, j_s, e, active, {"gap_j": 0.0, "dJ_dT": g_s})
 
-    def point(t: float) -> tuple[float, float, float, float, float]:
-        """(J_s, R, dJ/dT, dJ_s/dT, dR/dT) at t, memoised."""
-        got = evals.get(t)
-        if got is None:
-            r, dr = lm.braking_energy_and_slope(D, t)
-            djs = omega + (1.0 - omega) * lm.signed_energy_slope(D, t)
-            got = evals[t] = (j_signed(t), r, djs + cw * dr, djs, dr)
-        return got
+    def point(t: float) -> tuple[float, float, float]:
+        """(J, dJ/dT, R) at t."""
+        r, dr = lm.braking_energy_and_slope(D, t)
+        return j_signed(t) + cw * r, omega + (1.0 - omega) * (lm.signed_energy_slope(D, t) + c * dr), r
 
-    djs_s = omega + (1.0 - omega) * lm.signed_energy_slope(D, t_s)
-    evals[t_s] = (j_signed(t_s), r_s, djs_s + cw * dr_s, djs_s, dr_s)
-    # local optimum: safeguarded secant (Illinois) on dJ/dT in [T_s, T_up]
-    a, b = t_s, t_up
-    ga, gb = point(a)[2], point(b)[2]
-    if ga < 0.0 < gb:
-        for _ in range(_NEWTON_MAX):
-            x = b - gb * (b - a) / (gb - ga)
-            if not a < x < b:
-                x = 0.5 * (a + b)
-            gx = point(x)[2]
-            if gx > 0.0:
-                b, gb = x, gx
-                ga *= 0.5 if gx * gb > 0 else 1.0
-            else:
-                a, ga = x, gx
-            if b - a <= 1e-12 * b or gx == 0.0:
-                break
-    # branch and bound over [T_s, T_up]: on a cell [p, q], J ≥ J_s(p) + cw·R(q)
-    for t in np.linspace(t_s, t_up, 5)[1:-1]:
-        point(float(t))
-    lb = -math.inf
-    for _ in range(_BNB_CELLS):
-        ts = sorted(evals)
-        best = min(ts, key=lambda t: evals[t][0] + cw * evals[t][1])
-        j_best = evals[best][0] + cw * evals[best][1]
-        lbs = [evals[p][0] + cw * evals[q][1] for p, q in itertools.pairwise(ts)]
-        k = int(np.argmin(lbs))
-        lb = min(lbs[k], j_best)
-        tol = _GAP_REL * abs(j_best)
-        if j_best - lb <= tol:
+    # bracket the root of dJ/dT: J_s is increasing beyond T_s, so J(T) > J(T_s) once J_s(T) > J(T_s)
+    a, (ja, ga, ra) = t_s, (j_s, g_s, r_s)
+    b = min(2.0 * t_s, t_max)
+    jb, gb, rb = point(b)
+    while gb < 0.0 and b < t_max:
+        a, ja, ga, ra = b, jb, gb, rb
+        b = min(2.0 * b, t_max)
+        jb, gb, rb = point(b)
+    if gb <= 0.0:  # J decreasing up to the bound
+        e = lm.signed_energy(D, b) + c * rb
+        return ExactSolution(b, jb, e, "t_max", {"gap_j": 0.0, "dJ_dT": gb})
+    # Illinois (regula falsi) on dJ/dT in [a, b]
+    side = 0
+    for _ in range(_NEWTON_MAX):
+        x = b - gb * (b - a) / (gb - ga)
+        if not a < x < b:
+            x = 0.5 * (a + b)
+        jx, gx, rx = point(x)
+        if gx > 0.0:
+            b, jb, gb, rb = x, jx, gx, rx
+            if side == 1:
+                ga *= 0.5
+            side = 1
+        else:
+            a, ja, ga, ra = x, jx, gx, rx
+            if side == -1:
+                gb *= 0.5
+            side = -1
+        if b - a <= 1e-10 * b or gx == 0.0:
             break
-        # split the weakest cell; next to the incumbent, where the bound's deficit is the slope of R
-        # (left end) or of J_s (right end) times the width, cut off a sliver that will meet the gap
-        p, q = ts[k], ts[k + 1]
-        x = 0.5 * (p + q)
-        if p == best and evals[p][4] < 0.0:
-            x = p + min(0.5 * (q - p), max(0.5 * tol / (cw * -evals[p][4]), (q - p) / 64.0))
-        elif q == best and evals[q][3] > 0.0:
-            x = q - min(0.5 * (q - p), max(0.5 * tol / evals[q][3], (q - p) / 64.0))
-        point(x)
-    ts = sorted(evals)
-    best = min(ts, key=lambda t: evals[t][0] + cw * evals[t][1])
-    j_best = evals[best][0] + cw * evals[best][1]
-    lb = min(min(evals[p][0] + cw * evals[q][1] for p, q in itertools.pairwise(ts)), j_best)
-    i = ts.index(best)
-    e = lm.signed_energy(D, best) + c * evals[best][1]
-    if best > t_s:
-        active = "optimum"
+    ga_true = point(a)[1] if side == -1 else ga  # undo Illinois damping for the certificate
+    gb_true = point(b)[1] if side == 1 else gb
+    # convexity: J ≥ max of the tangents at a and b; their crossing bounds min J from below
+    if gb_true > ga_true:
+        t_x = (jb - ja + ga_true * a - gb_true * b) / (ga_true - gb_true)
+        lb = ja + ga_true * (t_x - a)
+    else:
+        lb = min(ja, jb)
+    t_opt, j_opt, r_opt = (a, ja, ra) if ja <= jb else (b, jb, rb)
+    e = lm.signed_energy(D, t_opt) + c * r_opt
     return ExactSolution(
-        best,
-        j_best,
+        t_opt,
+        j_opt,
         e,
-        active,
-        {
-            "gap_j": j_best - lb,
-            "t_lower_s": ts[max(i - 1, 0)],
-            "t_upper_s": ts[min(i + 1, len(ts) - 1)],
-            "dJ_dT": evals[best][2],
-        },
+        "optimum",
+        {"gap_j": max(j_opt - lb, 0.0), "t_lower_s": a, "t_upper_s": b, "dJ_dT": gx},
     )
 
 
