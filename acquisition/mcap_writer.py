@@ -20,7 +20,10 @@ from .errors import RecordingError
 from .messages import SCHEMAS
 
 COMPRESSIONS = {"zstd": CompressionType.ZSTD, "lz4": CompressionType.LZ4, "none": CompressionType.NONE}
-DEFAULT_CHUNK_SIZE = 4 * 1024 * 1024
+DEFAULT_CHUNK_SIZE = 1024 * 1024
+"""chunk size before compression. Smaller chunks shorten the recording thread's compression stalls
+(p99 stamp→write at 32 kHz: ~3 ms with 256 KiB, ~25 ms with 4 MiB) but each chunk leaves an index entry
+(~1 kB with 32 channels) in memory until the summary is written; 1 MiB balances the two."""
 LIBRARY = f"axisflow {__version__}"
 
 # rosbag2's default QoS for a reliable, volatile, keep-last publisher, as YAML
@@ -54,6 +57,8 @@ class Ros2McapWriter:
             self._fh: BinaryIO = open(self.path, "wb")  # noqa: SIM115 - closed in finish()
         except OSError as exc:
             raise RecordingError(f"cannot write {self.path}: {exc.strerror}") from None
+        # Message indexes are written (rerun's importer needs them); the writer keeps one chunk index
+        # per chunk in memory for the summary: the only state that grows with the session (see docs).
         self._writer = Writer(self._fh, chunk_size=chunk_size, compression=COMPRESSIONS[compression])
         self._writer.start(profile="ros2", library=LIBRARY)
         self._schemas: dict[tuple[str, str, bytes], int] = {}

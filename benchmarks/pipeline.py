@@ -12,8 +12,8 @@ JointState payloads pre-encoded and only the stamp patched per tick):
    recorder's peak RSS;
 3. throughput: a flood of messages published as fast as the recorder accepts them (blocking
    congestion control); recorder messages/s next to the baseline's, with their ratio;
-4. memory: the recorder's RSS sampled over a longer run (``--memory-seconds``, 16 axes): the growth
-   between the first quarter and the end of the run.
+4. memory: the recorder's RSS sampled over a longer run (``--memory-seconds``, ``--memory-axes``):
+   its growth from the first quarter to the end and its trend (MB/min, least squares).
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ PUBLISHER = [
     "-c",
     "import sys; from axisflow.benchmarks.pipeline import publisher_main; publisher_main()",
 ]
-DEFAULT_AXES = "8,16,32,48,64,96"
+DEFAULT_AXES = "8,16,32,48,64,96,128,192,256"
 KEEP_UP_P99_US = 100_000.0
 """a step passes if nothing is lost *and* the recorder keeps up in real time: p99 stamp→write ≤ 100 ms
 (a recorder that falls behind still loses nothing while its queue absorbs the backlog, but only for a
@@ -215,6 +215,7 @@ def _run_step(tmp: Path, n_axes: int, seconds: float, speed: float = 1.0, sample
         "recorder_missed": summary.get("missed"),
         "zero_loss": published == a["recorded"] and a["gaps"] == 0,
         "keeps_up": a["latency_p99_us"] <= KEEP_UP_P99_US,
+        "on_pace": speed == 0 or p["wall_s"] <= seconds * 1.05 + 0.05,
         "publisher_wall_s": p["wall_s"],
         "publisher_late_ticks": p["late_ticks"],
         "latency_p50_us": a["latency_p50_us"],
@@ -260,17 +261,21 @@ def run(args: argparse.Namespace) -> int:
 
         steps = []
         t_start = time.monotonic()
+        result["stopped_by"] = "end of the axis list"
         for n in axes_list:
             if time.monotonic() - t_start > args.budget:
+                result["stopped_by"] = f"time budget ({args.budget:g} s)"
                 break
             step = _run_step(tmp, n, args.seconds)
             step.pop("rss_trace")
             steps.append(step)
             _progress(args, f"{n} axes: lost {step['lost']}, gaps {step['gaps']}")
-            if not (step["zero_loss"] and step["keeps_up"]):
+            reason = _failure(step)
+            if reason:
+                result["stopped_by"] = f"{n} axes: {reason}"
                 break
         result["steps"] = steps
-        ok = [s["axes"] for s in steps if s["zero_loss"] and s["keeps_up"]]
+        ok = [s["axes"] for s in steps if not _failure(s)]
         result["max_axes_zero_loss"] = max(ok) if ok else 0
 
         # flood: 8 keys, as fast as the recorder takes them
@@ -288,14 +293,14 @@ def run(args: argparse.Namespace) -> int:
         _progress(args, f"flood: {flood_rate:.0f} msg/s")
 
         if args.memory_seconds > 0:
-            mem = _run_step(tmp, 16, args.memory_seconds, sample_rss=True)
+            mem = _run_step(tmp, args.memory_axes, args.memory_seconds, sample_rss=True)
             trace = [(t, kb / 1024) for t, kb in mem["rss_trace"] if kb > 0]
             late = [(t, mb) for t, mb in trace if t >= args.memory_seconds / 4]
             slope = float(np.polyfit(*zip(*late, strict=True), 1)[0]) * 60 if len(late) > 2 else float("nan")
             first = late[0][1] if late else float("nan")
             last = trace[-1][1] if trace else float("nan")
             result["memory"] = {
-                "axes": 16,
+                "axes": args.memory_axes,
                 "seconds": args.memory_seconds,
                 "zero_loss": mem["zero_loss"],
                 "rss_mb_at_quarter": first,
@@ -304,11 +309,7 @@ def run(args: argparse.Namespace) -> int:
                 "slope_mb_per_min": slope,
                 "peak_rss_mb": mem["recorder_peak_rss_mb"],
                 "rss_mb_at_tenths": [
-                    round(
-                        next((kb for t, kb in trace if t >= args.memory_seconds * i / 10), trace[-1][1])
-                        / 1024,
-                        1,
-                    )
+                    round(next((mb for t, mb in trace if t >= args.memory_seconds * i / 10), trace[-1][1]), 1)
                     for i in range(1, 11)
                 ]
                 if trace
@@ -319,6 +320,17 @@ def run(args: argparse.Namespace) -> int:
     else:
         _print_table(result)
     return 0
+
+
+def _failure(step: dict) -> str:
+    """Why a capacity step does not count ('' if it passes)."""
+    if not step["zero_loss"]:
+        return f"{step['lost']} lost, {step['gaps']} sequence gaps"
+    if not step["keeps_up"]:
+        return f"recorder falls behind (p99 stamp→write {step['latency_p99_us'] / 1e3:.0f} ms)"
+    if not step["on_pace"]:
+        return f"the publisher process could not keep 1 kHz ({step['publisher_wall_s']:.2f} s wall)"
+    return ""
 
 
 def _progress(args: argparse.Namespace, text: str) -> None:
@@ -337,11 +349,11 @@ def _print_table(r: dict) -> None:
             f"{s['axes']:>5} {s['axes'] * 1000:>7} {s['published']:>10} {s['recorded']:>9} {s['lost']:>5} "
             f"{s['gaps']:>5} {s['latency_p50_us']:>10.0f} {s['latency_p99_us']:>10.0f} "
             f"{s['recorder_peak_rss_mb']:>10.1f} {s['publisher_late_ticks']:>10} "
-            f"{'yes' if s['zero_loss'] and s['keeps_up'] else 'NO':>5}"
+            f"{'NO' if _failure(s) else 'yes':>5}"
         )
     print(
         f"largest axis count with zero loss, keeping up (p99 <= {KEEP_UP_P99_US / 1e3:.0f} ms): "
-        f"{r['max_axes_zero_loss']} (goal >= 32)"
+        f"{r['max_axes_zero_loss']} (goal >= 32); search stopped by: {r['stopped_by']}"
     )
     f = r["recorder_flood"]
     print(

@@ -7,7 +7,7 @@ import json
 from pathlib import Path
 
 from ..acquisition.keys import all_keys
-from ..acquisition.mcap_writer import COMPRESSIONS
+from ..acquisition.mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE
 from ..acquisition.recorder import Recorder, RecorderConfig
 from ..acquisition.shutdown import stop_on_signals
 from ..acquisition.zenoh_config import open_session
@@ -54,6 +54,13 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--split-duration", type=finite_float, default=None, metavar="S", help="new file every S seconds"
     )
     p.add_argument(
+        "--chunk-size",
+        type=byte_size,
+        default=DEFAULT_CHUNK_SIZE,
+        metavar="SIZE",
+        help=f"MCAP chunk size before compression (default {DEFAULT_CHUNK_SIZE // 1024} KiB)",
+    )
+    p.add_argument(
         "--queue", type=positive_int, default=1 << 16, metavar="N", help="receive queue capacity (messages)"
     )
     p.add_argument("--json", action="store_true", help="print the summary as one JSON object")
@@ -71,6 +78,7 @@ def run(args: argparse.Namespace) -> int:
         split_bytes=args.split_size,
         split_duration_s=args.split_duration,
         queue_capacity=args.queue,
+        chunk_size=args.chunk_size,
     )
     recorder = Recorder(config)
     with stop_on_signals() as stop, open_session(zenoh_options_from_args(args)) as session:
