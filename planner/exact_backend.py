@@ -25,11 +25,13 @@ increasing: the unconstrained optimum is T = D/β*(law, ω), one cached scalar p
 optimum is the projection of D/β* on [T_feas, T_max] and the gap is 0 (convexity).
 
 The ``positive`` and ``absolute`` accountings add c·R(T) (c = 1, 2), R = D·∫ h⁺(u)·s'(u) du the
-braking (regenerable) energy, h = A·|s''| − φ(β·s') on the braking half, A = M·β²/D. R ≥ 0 is
-non-increasing in T, so J is non-increasing on [T_feas, T_s] (T_s the signed optimum) and the global
-minimum lies in [T_s, T_up], T_up being where J_s alone exceeds J(T_s). There a branch-and-bound on
-cells [a, b] with the bound J_s(a) + (1 − ω)·c·R(b) (J_s increasing, R decreasing) proves the gap
-reported in the certificate; the best point is polished to 1e-10 relative by golden section.
+braking (regenerable) energy, h = A·|s''| − φ(β·s') on the braking half, A = M·β²/D. As a function
+of β, h is convex (M·β²·|s''|/D convex, −a3·atan(a4·β·s') convex for β ≥ 0) and increasing where
+positive, so h⁺ and R are convex and non-decreasing in β; β = D/T is convex in T, hence R and
+J = J_s + (1 − ω)·c·R are convex in T. J is non-increasing on [T_feas, T_s] (T_s the signed
+optimum), so the minimiser is T_s when dJ/dT(T_s) ≥ 0, and otherwise the root of dJ/dT in a bracket
+[a, b] found by regula falsi (Illinois), dR/dT by differentiating under the integral. Certificate:
+by convexity min J ≥ the crossing of the tangents at a and b; ``gap_j`` is J(best) minus that bound.
 """
 
 from __future__ import annotations
