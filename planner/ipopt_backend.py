@@ -182,7 +182,8 @@ class IpoptBackend:
             params,
             solver=self.name,
             status=status,
-            duration_s=float(sol["x"]),
+            # IPOPT relaxes bounds by ~1e-8 (bound_relax_factor): return a duration inside them
+            duration_s=min(max(float(sol["x"]), problem.t_min_s), problem.t_max_s),
             iterations=int(stats.get("iter_count", -1)),
             solve_time_s=elapsed,
             message=raw,
