@@ -1,0 +1,170 @@
+"""The exact back-end against independent references: a dense continuous-time search, a brute-force
+minimisation with the precise energy integral, and a converged CasADi + IPOPT."""
+
+import math
+
+import numpy as np
+import pytest
+from axisflow.model import EnergyAccounting, Move, MoveError, default_params, move_energy, polynomial_law
+from axisflow.planner import Case, InfeasibleMoveError, MoveProblem, SolveStatus, make_backend
+from axisflow.planner.evaluation import objective
+from axisflow.planner.exact_backend import solve_exact
+
+LAWS = ["poly3", "poly5", "poly7"]
+U = np.linspace(0.0, 1.0, 20001)
+
+
+@pytest.fixture(scope="module")
+def params():
+    return default_params()
+
+
+def _moves(seed, n):
+    rng = np.random.default_rng(seed)
+    pts = rng.uniform(0.0, 0.8, (n, 2))
+    pts[0] = (0.0, 0.8)  # full stroke
+    pts[1] = (0.8, 0.0)  # full stroke, backwards
+    pts[2] = (0.40, 0.4003)  # very short
+    return [tuple(float(x) for x in p) for p in pts]
+
+
+def dense_ok(x0, x1, law, T, params):
+    """Continuous-time limit check on a dense grid (friction sign closed at the ends, as eq. 1 inside)."""
+    d = abs(x1 - x0)
+    v = d / T * law.shape(U, 1)
+    force = (
+        params.M_eq * d / T**2 * law.shape(U, 2)
+        + params.a1
+        + params.a2 * v
+        + params.a3 * np.arctan(params.a4 * v)
+    )
+    return np.abs(force).max() <= params.f_max * (1 + 1e-9) and v.max() <= params.v_max * (1 + 1e-12)
+
+
+def dense_smallest(x0, x1, law, params, lo, hi):
+    """Bisection on the dense check (feasibility is monotone in T)."""
+    if dense_ok(x0, x1, law, lo, params):
+        return lo
+    a, b = lo, hi
+    while b - a > 1e-11 * b:
+        m = 0.5 * (a + b)
+        a, b = (a, m) if dense_ok(x0, x1, law, m, params) else (m, b)
+    return b
+
+
+@pytest.mark.parametrize("law", LAWS)
+def test_min_time_is_the_smallest_duration_meeting_the_limits_in_continuous_time(law, params):
+    poly = polynomial_law(law)
+    for x0, x1 in _moves(3, 12):
+        sol = solve_exact(MoveProblem(x0, x1, law, Case.MIN_TIME), params)
+        ref = dense_smallest(x0, x1, poly, params, 0.1, 3.0)
+        # the dense grid may miss the exact peak by ~1e-9 relative; the solver uses the analytic extremum
+        assert sol.duration_s == pytest.approx(ref, rel=1e-7), (x0, x1)
+        assert dense_ok(x0, x1, poly, sol.duration_s, params)
+        cert = sol.certificate
+        assert cert["t_upper_s"] == sol.duration_s
+        if sol.active != "t_min":
+            assert 0 < cert["gap_s"] <= 1e-9 * sol.duration_s
+            assert not dense_ok(x0, x1, poly, cert["t_lower_s"] * (1 - 1e-8), params)
+
+
+@pytest.mark.parametrize("accounting", list(EnergyAccounting))
+@pytest.mark.parametrize("law", LAWS)
+def test_min_time_energy_is_the_global_minimiser(law, accounting):
+    p = default_params().replace(energy_accounting=accounting)
+    poly = polynomial_law(law)
+    for x0, x1 in _moves(5, 5):
+        problem = MoveProblem(x0, x1, law, Case.MIN_TIME_ENERGY, omega=0.9)
+        sol = solve_exact(problem, p)
+        t_feas = dense_smallest(x0, x1, poly, p, 0.3, 20.0)
+
+        def f(T, x0=x0, x1=x1, problem=problem):
+            return objective(problem, T, move_energy(Move(x0, x1, T, poly), p))
+
+        grid = np.geomspace(t_feas, 20.0, 200)
+        best = min(f(T) for T in grid)
+        assert sol.objective == pytest.approx(f(sol.duration_s), rel=1e-9)
+        assert sol.objective <= best * (1 + 1e-9), (x0, x1)
+        assert sol.certificate["gap_j"] <= 1e-8 * abs(sol.objective)
+        assert sol.duration_s >= t_feas * (1 - 1e-7)
+
+
+def test_a_short_move_with_braking_energy_has_an_interior_optimum_and_a_tight_gap():
+    p = default_params().replace(energy_accounting="absolute")
+    sol = solve_exact(MoveProblem(0.30, 0.33, "poly3", Case.MIN_TIME_ENERGY), p)
+    assert "t_lower_s" in sol.certificate  # the regula-falsi branch ran
+    a, b = sol.certificate["t_lower_s"], sol.certificate["t_upper_s"]
+    assert a <= sol.duration_s <= b and b - a <= 1e-9 * b
+    assert sol.certificate["gap_j"] <= 1e-9 * sol.objective
+
+
+@pytest.mark.parametrize("accounting", list(EnergyAccounting))
+def test_exact_never_violates_a_limit_at_1khz(accounting):
+    p = default_params().replace(energy_accounting=accounting)
+    backend = make_backend("exact")
+    for i, (x0, x1) in enumerate(_moves(9, 30)):
+        for case in Case:
+            r = backend.solve(MoveProblem(x0, x1, LAWS[i % 3], case), p)
+            assert r.status is SolveStatus.CONVERGED
+            assert r.max_violation == 0.0
+            assert r.solver == "exact" and r.certificate
+
+
+def test_agreement_with_a_converged_ipopt_on_a_few_hundred_moves():
+    """The agreement study of the benchmark, on 216 moves: all laws, both cases, all accountings."""
+    from axisflow.benchmarks.planner import REFERENCE_IPOPT, random_moves
+
+    exact = make_backend("exact")
+    ref = make_backend("ipopt", **REFERENCE_IPOPT)
+    base = default_params()
+    converged = matched = kinked = 0
+    for i, (x0, x1) in enumerate(random_moves(216, 7, base.L)):
+        law = LAWS[i % 3]
+        case = Case.MIN_TIME if (i // 3) % 2 == 0 else Case.MIN_TIME_ENERGY
+        p = base.replace(energy_accounting=list(EnergyAccounting)[(i // 6) % 3])
+        problem = MoveProblem(x0, x1, law, case)
+        e = exact.solve(problem, p)
+        r = ref.solve(problem, p)
+        assert e.max_violation == 0.0
+        if not r.success:
+            continue
+        converged += 1
+        rel = abs(e.duration_s - r.duration_s) / r.duration_s
+        matched += rel <= 1e-6
+        if case is Case.MIN_TIME_ENERGY:
+            assert e.objective <= r.objective * (1 + 1e-9), (x0, x1, law, p.energy_accounting)
+            if rel > 1e-6:
+                # only where braking energy is counted: IPOPT's Simpson sum of max(P, 0) or |P| has a
+                # kink, which moves its optimum of a flat objective; the exact one is strictly lower
+                assert p.energy_accounting is not EnergyAccounting.SIGNED and rel < 1e-3
+                assert e.objective < r.objective
+                kinked += 1
+        else:
+            # IPOPT checks the torque at 2001 nodes only; where it is shorter it is over the limit
+            assert rel <= 1e-6
+            if r.duration_s < e.duration_s:
+                assert not dense_ok(x0, x1, polynomial_law(law), r.duration_s, p)
+    assert converged >= 200
+    assert matched + kinked == converged and kinked <= 10
+
+
+def test_zero_length_move_and_infeasible_bounds(params):
+    sol = solve_exact(MoveProblem(0.4, 0.4, "poly5", Case.MIN_TIME), params)
+    assert sol.duration_s == 0.1 and sol.active == "zero-length"
+    with pytest.raises(
+        InfeasibleMoveError, match=r"no duration in \[0.1, 0.2\] s keeps the poly5 move 0 m → 0.8 m"
+    ):
+        solve_exact(MoveProblem(0.0, 0.8, "poly5", Case.MIN_TIME, t_max_s=0.2), params)
+    with pytest.raises(MoveError, match=r"x1_m = 0.9 m is outside the stroke"):
+        make_backend("exact").solve(MoveProblem(0.1, 0.9, "poly5"), params)
+    with pytest.raises(MoveError, match="the exact solver takes no options"):
+        make_backend("exact", max_iter=3)
+
+
+def test_omega_limits(params):
+    fast = solve_exact(MoveProblem(0.1, 0.6, "poly5", Case.MIN_TIME_ENERGY, omega=1.0), params)
+    t1 = solve_exact(MoveProblem(0.1, 0.6, "poly5", Case.MIN_TIME, t_min_s=0.3, t_max_s=20.0), params)
+    assert fast.duration_s == pytest.approx(t1.duration_s, rel=1e-12)
+    slow = solve_exact(MoveProblem(0.1, 0.6, "poly5", Case.MIN_TIME_ENERGY, omega=0.0), params)
+    assert slow.duration_s == 20.0
+    assert math.isfinite(slow.energy_j)
