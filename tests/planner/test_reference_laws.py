@@ -1,0 +1,108 @@
+"""Reference laws: closed forms without friction, an ODE simulation with it, and the polynomial laws."""
+
+import numpy as np
+import pytest
+from axisflow.model import EnergyAccounting, Move, MoveError, default_params, move_energy, polynomial_law
+from axisflow.planner import Case, InfeasibleMoveError, MoveProblem
+from axisflow.planner.exact_backend import solve_exact
+from axisflow.planner.reference_laws import ReferenceLawError, least_energy, plan_reference, time_optimal
+from scipy.integrate import solve_ivp
+
+
+@pytest.fixture(scope="module")
+def params():
+    return default_params()
+
+
+def test_bang_without_friction_matches_the_closed_forms(params):
+    p = params.replace(a1=0.0, a2=0.0, a3=0.0, a4=0.0)
+    acc = p.f_max / p.M_eq
+    # triangular: peak speed below v_max
+    d = 0.5 * p.v_max**2 / acc  # reaches v_max/√2
+    prof = time_optimal(d, p)
+    assert prof.duration_s == pytest.approx(2.0 * np.sqrt(d / acc), rel=1e-10)
+    assert prof.switch_fraction == pytest.approx(0.5, rel=1e-9)
+    # trapezoidal: cruise at v_max
+    d = 0.8
+    prof = time_optimal(d, p)
+    assert prof.cruise_velocity_m_s == p.v_max
+    assert prof.duration_s == pytest.approx(d / p.v_max + p.v_max / acc, rel=1e-10)
+    assert prof.energy("signed") == pytest.approx(0.0, abs=1e-9)  # no friction: kinetic energy returned
+    assert prof.energy("positive") == pytest.approx(0.5 * p.M_eq * p.v_max**2, rel=1e-10)
+
+
+@pytest.mark.parametrize("distance_m", [0.003, 0.05, 0.3, 0.8])
+def test_bang_profile_integrated_as_an_ode_stops_at_the_target(distance_m, params):
+    prof = time_optimal(distance_m, params)
+    p = params
+    t_acc, t_cruise = prof.accel_time_s, prof.cruise_time_s
+
+    def rhs(t, y):
+        _x, v = y
+        if t < t_acc:
+            force = p.f_max
+        elif t < t_acc + t_cruise:
+            return [v, 0.0]
+        else:
+            force = -p.f_max
+        fric = p.a1 * np.sign(max(v, 1e-12)) + p.a2 * v + p.a3 * np.arctan(p.a4 * v)
+        return [v, (force - fric) / p.M_eq]
+
+    sol = solve_ivp(
+        rhs, (0.0, prof.duration_s), [0.0, 0.0], rtol=1e-11, atol=1e-13, max_step=prof.duration_s / 2000
+    )
+    x_end, v_end = sol.y[:, -1]
+    assert x_end == pytest.approx(distance_m, rel=1e-6, abs=1e-9)
+    assert abs(v_end) <= 1e-6 * max(prof.cruise_velocity_m_s, 1e-3)
+    assert prof.cruise_velocity_m_s <= p.v_max
+    assert prof.switch_fraction > 0.5  # friction helps braking: the switch is past mid-stroke
+
+
+@pytest.mark.parametrize("law", ["poly3", "poly5", "poly7"])
+def test_polynomial_laws_are_slower_and_costlier_than_the_limit(law, params):
+    for d in (0.01, 0.2, 0.8):
+        t_poly = solve_exact(MoveProblem(0.0, d, law, Case.MIN_TIME), params).duration_s
+        bang = time_optimal(d, params)
+        assert t_poly > bang.duration_s
+        for acc in EnergyAccounting:
+            e_poly = move_energy(Move(0.0, d, t_poly, polynomial_law(law)), params, acc)
+            best = least_energy(d, t_poly, params, acc)
+            assert best.duration_s == pytest.approx(t_poly, rel=1e-9)
+            assert best.energy(acc) <= e_poly
+
+
+def test_least_energy_at_the_minimum_time_is_the_bang_profile_and_decreases_with_time(params):
+    d = 0.4
+    bang = time_optimal(d, params)
+    at_min = least_energy(d, bang.duration_s, params, "signed")
+    assert at_min.energy("signed") == pytest.approx(bang.energy("signed"), rel=1e-9)
+    energies = [
+        least_energy(d, bang.duration_s * k, params, "signed").energy("signed") for k in (1.0, 1.5, 3.0)
+    ]
+    assert energies[0] > energies[1] > energies[2]
+    with pytest.raises(InfeasibleMoveError, match="shorter than the time-optimal"):
+        least_energy(d, 0.5 * bang.duration_s, params)
+
+
+def test_positive_accounting_coasts(params):
+    prof = least_energy(0.4, 2.0, params, "positive")
+    assert prof.brake_velocity_m_s < prof.cruise_velocity_m_s
+    assert prof.coast_time_s > 0.0
+    assert prof.energy("positive") <= least_energy(0.4, 2.0, params, "signed").energy("positive")
+
+
+def test_plan_reference_and_errors(params):
+    bang = plan_reference("bang", 0.6, params, t_min_s=0.1, t_max_s=3.0)
+    assert bang.duration_s == pytest.approx(time_optimal(0.6, params).duration_s)
+    slow = plan_reference(
+        "least-energy", 0.6, params, minimise_time=False, omega=0.9, t_min_s=0.3, t_max_s=20.0
+    )
+    assert slow.duration_s > bang.duration_s
+    with pytest.raises(MoveError, match="the bang law is the minimum-time law"):
+        plan_reference("bang", 0.6, params, minimise_time=False)
+    with pytest.raises(InfeasibleMoveError, match=r"no duration in \[0.1, 0.2\] s"):
+        plan_reference("bang", 0.8, params, t_max_s=0.2)
+    with pytest.raises(ReferenceLawError, match="friction at v_max"):
+        time_optimal(0.5, params.replace(tau_max=0.1))
+    with pytest.raises(MoveError, match="longer than the stroke"):
+        time_optimal(0.9, params)
