@@ -1,0 +1,106 @@
+"""Command-line tests of issue 3: pareto, plan with the exact solver and the reference laws,
+the experiment with --solver exact, and the planner benchmark's JSON shape."""
+
+import json
+
+from axisflow.cli import main
+
+ROW_KEYS = {
+    "case",
+    "law",
+    "solver",
+    "omega",
+    "durations_s",
+    "total_time_s",
+    "energy_model_j",
+    "energy_measured_j",
+    "energy_error_pct",
+    "t_opt_ms_mean",
+    "t_opt_ms_std",
+    "max_violation",
+}
+
+
+def test_pareto_writes_json_and_a_png(tmp_path, capsys):
+    out = tmp_path / "pareto"
+    args = ["pareto", "--waypoints", "6", "--law", "poly5", "--law", "poly3", "--out", str(out)]
+    assert main([*args, "--omega", "0", "--omega", "0.9", "--omega", "1"]) == 0
+    data = json.loads((out / "pareto.json").read_text())
+    assert [c["law"] for c in data["curves"]] == ["poly5", "poly3"]
+    for curve in data["curves"]:
+        assert curve["omega"] == [0.0, 0.9, 1.0]
+        assert len(curve["total_time_s"]) == len(curve["total_energy_j"]) == 3
+    assert data["time_optimal"]["total_time_s"] < min(min(c["total_time_s"]) for c in data["curves"])
+    png = (out / "pareto.png").read_bytes()
+    assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 10_000
+    assert "wrote" in capsys.readouterr().out
+
+
+def test_pareto_rejects_a_bad_omega(tmp_path, capsys):
+    assert main(["pareto", "--waypoints", "4", "--omega", "2", "--out", str(tmp_path)]) == 2
+    assert "omega = 2.0 is outside [0, 1]" in capsys.readouterr().err
+    assert not (tmp_path / "pareto.json").exists()
+
+
+def test_plan_defaults_to_exact_and_reports_a_certificate(capsys):
+    assert main(["plan", "0.1", "0.7", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["solver"] == "exact" and out["status"] == "converged"
+    assert out["certificate"]["t_lower_s"] < out["certificate"]["t_upper_s"] == out["duration_s"]
+    assert main(["plan", "0.1", "0.7", "--solver", "ipopt", "--json"]) == 0
+    ipopt = json.loads(capsys.readouterr().out)
+    assert out["duration_s"] <= ipopt["duration_s"]
+
+
+def test_plan_with_the_reference_laws(capsys):
+    assert main(["plan", "0.1", "0.7", "--law", "bang", "--json"]) == 0
+    bang = json.loads(capsys.readouterr().out)
+    assert main(["plan", "0.1", "0.7", "--law", "poly5", "--json"]) == 0
+    poly = json.loads(capsys.readouterr().out)
+    assert bang["duration_s"] < poly["duration_s"]
+    assert bang["profile"]["switch_fraction"] > 0.5
+    assert main(["plan", "0.1", "0.7", "--law", "bang", "--case", "min-time-energy"]) == 2
+    assert "the bang law is the minimum-time law" in capsys.readouterr().err
+
+
+def test_experiment_with_the_exact_solver_is_no_worse_than_ipopt(tmp_path, capsys):
+    rows = {}
+    for solver in ("exact", "ipopt"):
+        out = tmp_path / solver
+        args = [
+            "experiment",
+            "--offline",
+            "--waypoints",
+            "12",
+            "--seed",
+            "4",
+            "--solver",
+            solver,
+            "--out",
+            str(out),
+        ]
+        assert main(args) == 0
+        rows[solver] = json.loads((out / "table2.json").read_text())["rows"]
+    capsys.readouterr()
+    for e, i in zip(rows["exact"], rows["ipopt"], strict=True):
+        assert set(e) >= ROW_KEYS and e["solver"] == "exact"
+        assert (e["case"], e["law"]) == (i["case"], i["law"])
+        assert e["max_violation"] == 0.0 and e["statuses"] == {"converged": 11}
+        assert e["objective_total"] <= i["objective_total"] * (1 + 1e-9)
+        if e["case"] == "min-time":
+            assert e["total_time_s"] <= i["total_time_s"]
+        assert e["t_limit_ratio"] > 1.0 and e["e_limit_ratio"] >= 1.0
+        assert len(e["t_limit_s"]) == len(e["e_limit_j"]) == 11
+    md = (tmp_path / "exact" / "table2.md").read_text()
+    assert "Against the physical limit" in md and "T/T_limit" in md
+
+
+def test_bench_planner_json_shape(capsys):
+    assert main(["bench", "planner", "--moves", "60", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert set(data) == {"moves", "exact", "ipopt", "speedup_p50"}
+    assert data["moves"] == 60
+    for solver in ("exact", "ipopt"):
+        assert set(data[solver]) == {"p50_us", "p99_us"}
+        assert 0 < data[solver]["p50_us"] <= data[solver]["p99_us"]
+    assert data["speedup_p50"] > 1.0
