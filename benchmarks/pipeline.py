@@ -63,6 +63,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=20.0,
         help="length of the memory run [s] (default 20; 0 = skip)",
     )
+    parser.add_argument("--memory-axes", type=int, default=16, help="axes in the memory run (default 16)")
 
 
 # --------------------------------------------------------------------------- publisher process

@@ -49,10 +49,11 @@ def test_pipeline_benchmark_smoke(cli):
 
     result = cli.run(
         "bench", "pipeline", "--json", "--axes", "2", "--seconds", "0.5", "--flood", "4000",
-        "--memory-seconds", "0", timeout=120,
+        "--memory-seconds", "1", "--memory-axes", "2", timeout=120,
     )  # fmt: skip
     assert result.returncode == 0, result.stderr
     r = json.loads(result.stdout)
     assert r["steps"][0]["axes"] == 2 and r["steps"][0]["lost"] == 0
     assert r["max_axes_zero_loss"] == 2
     assert r["recorder_flood"]["lost"] == 0 and r["recorder_flood"]["ratio_to_baseline"] > 0
+    assert r["memory"]["axes"] == 2 and r["memory"]["peak_rss_mb"] > 0
