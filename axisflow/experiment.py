@@ -117,12 +117,15 @@ class ExperimentRow:
             "t_opt_ms_mean": float(times.mean()),
             "t_opt_ms_std": float(times.std(ddof=1)) if times.size > 1 else 0.0,
             "max_violation": self.max_violation,
-            **self._extra_json(),
         }
 
-    def _extra_json(self) -> dict[str, Any]:
-        """Keys added by issue 3 (the physical limit), after the foundation's keys."""
+    def extra_json(self) -> dict[str, Any]:
+        """The row's comparison with the physical limit (issue 3), written to ``limits.json`` so
+        that ``table2.json`` keeps exactly the keys of issue 2."""
         out: dict[str, Any] = {
+            "case": self.case.value,
+            "law": self.law,
+            "solver": self.solver,
             "objective_total": self.objective_total,
             "statuses": self.status_counts,
         }
@@ -161,6 +164,11 @@ class ExperimentResult:
             "params": self.params.to_dict(),
             "rows": [row.to_json() for row in self.rows],
         }
+
+    def limits_json(self) -> dict[str, Any]:
+        """Per row: objective total, statuses and, when computed, T_limit/E_limit per move and in
+        total (``limits.json``)."""
+        return {"seed": self.seed, "rows": [row.extra_json() for row in self.rows]}
 
 
 def plan_row(

@@ -27,7 +27,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         "experiment",
         help="reproduce the paper's Table 2",
         description="Plan the moves through random way points for each case × law (Table 2 of the paper) "
-        "and write DIR/table2.md and DIR/table2.json.",
+        "and write DIR/table2.md, DIR/table2.json and DIR/limits.json (each row against the physical limit: "
+        "T_poly/T_limit and E_poly/E_limit per move and in total).",
     )
     p.add_argument("--offline", action="store_true", help="plan only, no drive (the only mode for now)")
     p.add_argument("--out", metavar="DIR", required=True, help="output directory (created if missing)")
@@ -69,7 +70,8 @@ def run(args: argparse.Namespace) -> int:
     table = table_markdown(result)
     ensure_dir(out)
     write_atomic(out / "table2.json", json.dumps(result.to_json(), indent=1) + "\n")
+    write_atomic(out / "limits.json", json.dumps(result.limits_json(), indent=1) + "\n")
     write_atomic(out / "table2.md", table)
     print(table, end="")
-    print(f"\nwrote {out / 'table2.md'} and {out / 'table2.json'}")
+    print(f"\nwrote {out / 'table2.md'}, {out / 'table2.json'} and {out / 'limits.json'}")
     return 0
