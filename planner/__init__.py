@@ -2,18 +2,27 @@
 
 from .backend import BACKENDS, PlannerBackend, make_backend
 from .errors import InfeasibleMoveError
+from .exact_backend import ExactBackend, ExactSolution, solve_exact
 from .problem import DEFAULT_OMEGA, DEFAULT_TIME_BOUNDS_S, Case, MoveProblem
+from .reference_laws import REFERENCE_LAWS, ReferenceProfile, least_energy, time_optimal
 from .result import PlanResult, SolveStatus
 
 __all__ = [
     "BACKENDS",
     "DEFAULT_OMEGA",
     "DEFAULT_TIME_BOUNDS_S",
+    "REFERENCE_LAWS",
     "Case",
+    "ExactBackend",
+    "ExactSolution",
     "InfeasibleMoveError",
     "MoveProblem",
     "PlanResult",
     "PlannerBackend",
+    "ReferenceProfile",
     "SolveStatus",
+    "least_energy",
     "make_backend",
+    "solve_exact",
+    "time_optimal",
 ]
