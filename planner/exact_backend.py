@@ -530,47 +530,69 @@ def _time_energy(
         e = lm.signed_energy(D, t_s) + c * r_s
         return ExactSolution(t_s, j_s, e, active, {"gap_j": 0.0, "dJ_dT": g_s})
 
-    def point(t: float) -> tuple[float, float, float]:
-        """(J, dJ/dT, R) at t."""
-        r, dr = lm.braking_energy_and_slope(D, t)
-        return j_signed(t) + cw * r, omega + (1.0 - omega) * (lm.signed_energy_slope(D, t) + c * dr), r
+    memo: dict[float, tuple[float, float, float]] = {t_s: (j_s, g_s, r_s)}
 
-    # bracket the root of dJ/dT: J_s is increasing beyond T_s, so J(T) > J(T_s) once J_s(T) > J(T_s)
-    a, (ja, ga, ra) = t_s, (j_s, g_s, r_s)
-    b = min(2.0 * t_s, t_max)
-    jb, gb, rb = point(b)
-    while gb < 0.0 and b < t_max:
-        a, ja, ga, ra = b, jb, gb, rb
-        b = min(2.0 * b, t_max)
-        jb, gb, rb = point(b)
-    if gb <= 0.0:  # J decreasing up to the bound
-        e = lm.signed_energy(D, b) + c * rb
-        return ExactSolution(b, jb, e, "t_max", {"gap_j": 0.0, "dJ_dT": gb})
-    # Illinois (regula falsi) on dJ/dT in [a, b]
-    side = 0
-    for _ in range(_NEWTON_MAX):
-        x = b - gb * (b - a) / (gb - ga)
-        if not a < x < b:
-            x = 0.5 * (a + b)
-        jx, gx, rx = point(x)
+    def point(t: float) -> tuple[float, float, float]:
+        """(J, dJ/dT, R) at t, memoised."""
+        got = memo.get(t)
+        if got is None:
+            r, dr = lm.braking_energy_and_slope(D, t)
+            got = memo[t] = (
+                j_signed(t) + cw * r,
+                omega + (1.0 - omega) * (lm.signed_energy_slope(D, t) + c * dr),
+                r,
+            )
+        return got
+
+    # the root of dJ/dT (increasing: J is convex) right of T_s: secant steps from a probe next to
+    # T_s, kept inside the bracket [a, b] (dJ/dT(a) < 0 < dJ/dT(b)) once one is known; bisection
+    # when a step leaves the bracket or the iteration stalls
+    a, b = t_s, math.inf
+    x_prev, g_prev = t_s, g_s
+    x = min(t_s * (1.0 + 1e-3), t_max)
+    gx = g_s
+    for it in range(_NEWTON_MAX):
+        _, gx, _ = point(x)
         if gx > 0.0:
-            b, jb, gb, rb = x, jx, gx, rx
-            if side == 1:
-                ga *= 0.5
-            side = 1
+            b = min(b, x)
         else:
-            a, ja, ga, ra = x, jx, gx, rx
-            if side == -1:
-                gb *= 0.5
-            side = -1
-        if b - a <= 1e-10 * b or gx == 0.0:
+            a = max(a, x)
+        if gx == 0.0 or (b < math.inf and b - a <= 1e-10 * b):
             break
-    ga_true = point(a)[1] if side == -1 else ga  # undo Illinois damping for the certificate
-    gb_true = point(b)[1] if side == 1 else gb
+        if gx < 0.0 and x >= t_max:  # J decreasing up to the bound
+            break
+        nx = x - gx * (x - x_prev) / (gx - g_prev) if gx != g_prev else math.nan
+        x_prev, g_prev = x, gx
+        if b == math.inf:
+            if not nx > a:  # no sensible secant step yet: double the distance from T_s
+                nx = t_s + 2.0 * (a - t_s)
+            # aim a hair past the secant's root, so that a step from the left also brackets it
+            x = min(nx + 1e-10 * nx, t_max)
+        else:
+            x = nx if a < nx < b and it < 12 else 0.5 * (a + b)
+    if b == math.inf:
+        jb, gb, rb = point(t_max)
+        if gb <= 0.0:  # dJ/dT ≤ 0 up to T_max
+            e = lm.signed_energy(D, t_max) + c * rb
+            return ExactSolution(t_max, jb, e, "t_max", {"gap_j": 0.0, "dJ_dT": gb})
+        b = t_max
+    while b - a > 1e-10 * b and gx != 0.0:  # fallback: bisection (not reached in practice)
+        x = 0.5 * (a + b)
+        _, gx, _ = point(x)
+        if gx > 0.0:
+            b = x
+        else:
+            a = x
+    ja, ga, ra = point(a)
+    jb, gb, rb = point(b)
     # convexity: J ≥ max of the tangents at a and b; their crossing bounds min J from below
-    if gb_true > ga_true:
-        t_x = (jb - ja + ga_true * a - gb_true * b) / (ga_true - gb_true)
-        lb = ja + ga_true * (t_x - a)
+    if gx == 0.0:
+        a = b = x
+        ja, ga, ra = jb, gb, rb = point(x)
+        lb = ja
+    elif gb > ga:
+        t_x = (jb - ja + ga * a - gb * b) / (ga - gb)
+        lb = ja + ga * (t_x - a)
     else:
         lb = min(ja, jb)
     t_opt, j_opt, r_opt = (a, ja, ra) if ja <= jb else (b, jb, rb)
