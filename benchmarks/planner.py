@@ -121,7 +121,7 @@ def _print_latency(res: dict[str, Any]) -> None:
         print(f"  {k:<22} p50 {v['p50_us']:8.1f} µs   p99 {v['p99_us']:8.1f} µs")
 
 
-def _time_both(problems, params, ipopt, t_exact, by_kind):  # noqa: ANN001, ANN202
+def _time_both(problems, params, ipopt, t_exact, by_kind):  # noqa: ANN001
     """Time every exact solve (appending µs to ``t_exact`` and ``by_kind``), then every IPOPT solve."""
     for p in problems:
         t0 = time.perf_counter()
