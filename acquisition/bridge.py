@@ -2,6 +2,8 @@
 
 Each tick k (drive time ``t0 + k·1 ms``) the bridge
 
+While it runs it holds the liveliness token ``<prefix>/<axis>/alive`` so senders can find it.
+
 1. takes the moves that arrived on ``<prefix>/<axis>/trajectory`` (a Zenoh FIFO channel filled on
    Zenoh's thread) and validates/queues them (:class:`~axisflow.acquisition.move_queue.MoveQueue`);
    each accepted or rejected move is logged and published on ``<prefix>/<axis>/event``;
@@ -135,6 +137,7 @@ def run_bridge(
         SequencedPublisher(session, keys.state, JOINT_STATE_TYPE, telemetry) as state_pub,
         SequencedPublisher(session, keys.setpoint, JOINT_STATE_TYPE, telemetry) as setpoint_pub,
         SequencedPublisher(session, keys.event, STRING_TYPE, Traffic.COMMAND) as event_pub,
+        session.liveliness().declare_token(keys.alive),
     ):
         if config.wait_subscribers_s > 0 and not wait_for_subscribers([state_pub], config.wait_subscribers_s):
             log.warning(

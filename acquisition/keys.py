@@ -5,7 +5,8 @@ Per axis, under a configurable prefix (default ``axisflow``):
 * ``<prefix>/<axis>/state`` — measured samples, ``sensor_msgs/msg/JointState`` at 1 kHz;
 * ``<prefix>/<axis>/setpoint`` — what the drive is commanded each tick (same type and joints);
 * ``<prefix>/<axis>/trajectory`` — moves sent to the drive, ``axisflow_msgs/msg/Move``;
-* ``<prefix>/<axis>/event`` — the bridge's events (accepted/rejected moves), ``std_msgs/msg/String``.
+* ``<prefix>/<axis>/event`` — the bridge's events (accepted/rejected moves), ``std_msgs/msg/String``;
+* ``<prefix>/<axis>/alive`` — a Zenoh liveliness token held by the running bridge (not pub/sub data).
 
 The MCAP topic of a key is ``/`` + the key (``/axisflow/a0/state``).
 """
@@ -60,6 +61,11 @@ class AxisKeys:
     @property
     def event(self) -> str:
         return f"{self.prefix}/{self.axis}/event"
+
+    @property
+    def alive(self) -> str:
+        """liveliness token of the running bridge"""
+        return f"{self.prefix}/{self.axis}/alive"
 
 
 def all_keys(prefix: str = DEFAULT_PREFIX) -> str:

@@ -25,12 +25,25 @@ class MoveSender:
 
     def __init__(self, session: zenoh.Session, keys: AxisKeys) -> None:
         self.keys = keys
+        self._session = session
         self._pub = SequencedPublisher(session, keys.trajectory, MOVE_TYPE, Traffic.COMMAND)
         self._next_id = 1
 
     def wait_for_bridge(self, timeout_s: float) -> bool:
-        """True once a bridge subscribes to the trajectory key (False after ``timeout_s``)."""
-        return wait_for_subscribers([self._pub], timeout_s)
+        """True once the bridge's liveliness token answers and the trajectory key has a subscriber.
+
+        (A recorder also subscribes to the trajectory key, so the subscriber alone does not prove
+        that a bridge listens.) False after ``timeout_s``.
+        """
+        deadline = time.monotonic() + timeout_s
+        while True:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                return False
+            replies = self._session.liveliness().get(self.keys.alive, timeout=min(0.5, remaining))
+            if any(reply.ok is not None for reply in replies):
+                return wait_for_subscribers([self._pub], max(deadline - time.monotonic(), 0.1))
+            time.sleep(0.05)
 
     def send(
         self,

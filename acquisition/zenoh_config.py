@@ -1,8 +1,9 @@
 """Zenoh session configuration from ``--mode``, ``--connect``, ``--listen`` and ``--zenoh-config``.
 
 The embedded default needs no router and stays on this machine: peer mode, multicast scouting off,
-every process listens on ``tcp/127.0.0.1:7447`` if that port is free and connects to it otherwise
-(the first process holds the port, the others connect to it and learn about each other by gossip).
+every process listens on ``tcp/127.0.0.1:7447`` if that port is free and on a port of its own, and
+connects to 7447 (the first process holds the port; the others connect to it, learn each other's own
+ports by gossip and connect directly).
 
 A ``--zenoh-config FILE`` (zenoh JSON5: TLS, authentication, access control…) replaces the embedded
 default; ``--mode``, ``--connect`` and ``--listen`` given on the command line override the file.
@@ -68,7 +69,9 @@ def build_config(options: ZenohOptions) -> zenoh.Config:
         _insert(config, "mode", "peer")
         _insert(config, "scouting/multicast/enabled", False)
         if not options.connect and not options.listen:
-            _insert(config, "listen/endpoints", [DEFAULT_ENDPOINT])
+            # the well-known port if free, and always an own port: gossip hands it to the other peers,
+            # which then connect directly (a peer does not forward between two other peers)
+            _insert(config, "listen/endpoints", [DEFAULT_ENDPOINT, LOOPBACK_ANY_PORT])
             _insert(config, "listen/exit_on_failure", False)
             _insert(config, "connect/endpoints", [DEFAULT_ENDPOINT])
             _insert(config, "connect/timeout_ms", 0)

@@ -1,6 +1,7 @@
 """Moves sent over Zenoh to a running bridge: queued back to back, bad ones rejected, the axis rests
 at the end even though the sender's session is gone (real sessions on tcp/127.0.0.1, in-process)."""
 
+import signal
 import threading
 
 import numpy as np
@@ -75,3 +76,23 @@ def test_moves_queue_back_to_back_and_bad_ones_are_rejected(port):
     assert x[start:end].max() == pytest.approx(0.3)
     assert x[-1] == pytest.approx(0.1)  # at rest at the end of the last accepted move
     assert drive.position_m == pytest.approx(0.1, abs=5e-4)
+
+
+def test_sender_finds_the_bridge_through_the_recorder_by_gossip(cli, tmp_path, port):
+    """Recorder listens; bridge and sender only connect to it and must find each other."""
+    out = tmp_path / "moves.mcap"
+    rec = cli.start("record", "-o", str(out), "--listen", f"tcp/127.0.0.1:{port}")
+    cli.wait_for_file(out)
+    bridge = cli.start("bridge", "--sim", "--connect", f"tcp/127.0.0.1:{port}", "--duration", "3", "--json")
+    with (
+        open_session(ZenohOptions.loopback(connect_port=port)) as planner,
+        MoveSender(planner, AxisKeys()) as sender,
+    ):
+        assert sender.wait_for_bridge(10.0)
+        sender.send(0.0, 0.2, 0.6)
+    bridge_out, bridge_err = cli.finish(bridge)
+    rec.send_signal(signal.SIGINT)
+    rec_out, _ = cli.finish(rec)
+    assert '"moves_accepted": 1' in bridge_out, bridge_err
+    assert '"moves_completed": 1' in bridge_out
+    assert "/axisflow/a0/trajectory" in rec_out

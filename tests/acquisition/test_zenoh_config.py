@@ -14,7 +14,7 @@ def test_embedded_default_is_loopback_peer_without_multicast():
     c = build_config(ZenohOptions())
     assert _get(c, "mode") == "peer"
     assert _get(c, "scouting/multicast/enabled") is False
-    assert _get(c, "listen/endpoints") == ["tcp/127.0.0.1:7447"]
+    assert _get(c, "listen/endpoints") == ["tcp/127.0.0.1:7447", "tcp/127.0.0.1:0"]
     assert _get(c, "connect/endpoints") == ["tcp/127.0.0.1:7447"]
 
 
