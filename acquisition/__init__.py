@@ -18,7 +18,7 @@ from .errors import (
     WireError,
     ZenohConfigError,
 )
-from .keys import AxisKeys, all_keys, key_for_topic, topic_for_key
+from .keys import AxisKeys, KeyExprError, all_keys, key_for_topic, topic_for_key
 from .messages import (
     APPEND,
     JOINT_STATE_TYPE,
@@ -53,6 +53,7 @@ __all__ = [
     "BridgeReport",
     "Drive",
     "JointState",
+    "KeyExprError",
     "MoveCommand",
     "MoveQueue",
     "MoveRejectedError",

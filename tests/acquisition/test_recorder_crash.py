@@ -14,7 +14,7 @@ STATE = "/axisflow/a0/state"
 def _start_pipeline(cli, out: Path, *record_args: str):
     port = cli.free_port()
     rec = cli.start("record", "-o", str(out), "--listen", f"tcp/127.0.0.1:{port}", *record_args)
-    split = "--split-duration" in record_args
+    split = any(a.startswith("--split") for a in record_args)
     cli.wait_for_file(out.with_name(f"{out.stem}_0000.mcap") if split else out)
     bridge = cli.start(
         "bridge", "--sim", "--connect", f"tcp/127.0.0.1:{port}", "--duration", "4", "--wait-subscribers", "10"
@@ -72,9 +72,12 @@ def test_sigkill_loses_at_most_a_second_and_recover_rebuilds_the_file(cli, tmp_p
     assert counts[STATE] == len(streamed)
 
 
-def test_split_by_duration_gives_complete_consecutive_files(cli, tmp_path):
+@pytest.mark.parametrize(
+    "split", [("--split-duration", "1"), ("--split-size", "60k")], ids=["by-duration", "by-size"]
+)
+def test_split_gives_complete_consecutive_files(cli, tmp_path, split):
     out = tmp_path / "run.mcap"
-    rec, bridge = _start_pipeline(cli, out, "--split-duration", "1")
+    rec, bridge = _start_pipeline(cli, out, *split)
     cli.finish(bridge)
     time.sleep(0.3)
     rec.send_signal(signal.SIGINT)
