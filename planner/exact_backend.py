@@ -311,7 +311,9 @@ class LawModel:
         """R(T) [J]; see :meth:`braking_energy_and_slope`."""
         return self.braking_energy_and_slope(D, T)[0]
 
-    def braking_energy_and_slope(self, D: float, T: float) -> tuple[float, float]:
+    def braking_energy_and_slope(
+        self, D: float, T: float, hint: list[float] | None = None
+    ) -> tuple[float, float]:
         """R(T) [J] and dR/dT [J/s]: R = D·∫ h⁺·s' du over the braking half, h = A·|s''| − φ(β·s').
 
         Mapped to u' = 1 − u ∈ [0, 1/2]: h = A·s''(u') − φ(β·s'(u')), A = M·β²/D, β = D/T. The
@@ -319,6 +321,8 @@ class LawModel:
         Newton), then integrated by 16-point Gauss–Legendre, so the kink of h⁺ falls on the panel
         edges. Since h vanishes at the ends of the interval, dR/dT = D·∫ ∂h/∂T·s' du with
         ∂h/∂T = (−2A·s'' + φ'(β·s')·β·s')/T.
+        ``hint`` (a list, updated in place) carries [lo, peak, hi] of the previous call with the same
+        D, where the Newton iterations then start.
         """
         beta = D / T
         A = self.M * beta * beta / D
@@ -333,7 +337,7 @@ class LawModel:
             return A * s2 - a1 - a2 * v - a3 * math.atan(z), A * s3 - fp * beta * s2, s2
 
         # peak of h: start at the peak of s''; h' = A s''' − φ'(v)·β·s''
-        u = self.u_acc_peak
+        u = hint[1] if hint else self.u_acc_peak
         lo_b, hi_b = 0.0, 0.5
         h0, hu0, _ = h_and_slope(0.0)
         if hu0 < 0.0:
@@ -363,10 +367,10 @@ class LawModel:
         if h_peak <= 0.0:
             return 0.0, 0.0
 
-        def root(a: float, b: float) -> float:
+        def root(a: float, b: float, x0: float) -> float:
             """the zero of h between a (h(a) ≤ 0 or > 0) and b, h changing sign (safeguarded Newton)."""
             fa = h_and_slope(a)[0]
-            x = 0.5 * (a + b)
+            x = x0 if a < x0 < b else 0.5 * (a + b)
             for _ in range(_NEWTON_MAX):
                 fx, dx, _ = h_and_slope(x)
                 if (fx > 0.0) == (fa > 0.0):
@@ -381,8 +385,10 @@ class LawModel:
                 x = new
             return x
 
-        lo = 0.0 if h0 > 0.0 else root(0.0, u)
-        hi = root(u, 0.5)
+        lo = 0.0 if h0 > 0.0 else root(0.0, u, hint[0] if hint else -1.0)
+        hi = root(u, 0.5, hint[2] if hint else -1.0)
+        if hint is not None:
+            hint[:] = [lo, u, hi]
         half = 0.5 * (hi - lo)
         x = lo + half * (_GL16_X + 1.0)
         s1 = np.polyval(c1, x)
@@ -521,7 +527,8 @@ def _time_energy(
         return ExactSolution(t_s, omega * t_s + (1 - omega) * e, e, active, {"gap_j": 0.0, "dJ_dT": slope})
     c = 1.0 if acc is EnergyAccounting.POSITIVE else 2.0
     cw = c * (1.0 - omega)
-    r_s, dr_s = lm.braking_energy_and_slope(D, t_s)
+    hint: list[float] = []
+    r_s, dr_s = lm.braking_energy_and_slope(D, t_s, hint)
     j_s = j_signed(t_s) + cw * r_s
     g_s = omega + (1.0 - omega) * (lm.signed_energy_slope(D, t_s) + c * dr_s)
     if r_s == 0.0 or t_s >= t_max or omega >= 1.0 or g_s >= 0.0:
@@ -536,7 +543,7 @@ def _time_energy(
         """(J, dJ/dT, R) at t, memoised."""
         got = memo.get(t)
         if got is None:
-            r, dr = lm.braking_energy_and_slope(D, t)
+            r, dr = lm.braking_energy_and_slope(D, t, hint)
             got = memo[t] = (
                 j_signed(t) + cw * r,
                 omega + (1.0 - omega) * (lm.signed_energy_slope(D, t) + c * dr),
