@@ -1,13 +1,13 @@
 """Planner: per-solve latency of the exact back-end against IPOPT (cap 10) on the same random moves.
 
-Default run (``axisflow bench planner``, ~20 s): ``--moves`` random moves (laws and both cases in
+Default run (``axisflow bench planner``, ~15 s): ``--moves`` random moves (laws and both cases in
 turn, the parameters' energy accounting; a tenth very short, some full-stroke), each solved by
 ``exact`` and by ``ipopt`` with the paper's cap of 10 iterations. Latency is the solver's own time
 (``PlanResult.solve_time_s``: the exact solve; IPOPT's CasADi call), not the common 1 kHz scoring.
 ``--json`` prints ``{"moves", "exact": {"p50_us", "p99_us"}, "ipopt": {"p50_us", "p99_us"},
 "speedup_p50"}``.
 
-``--agreement`` (the full study, 10 000 moves by default; ~15–25 min on 2 cores): every law, both
+``--agreement`` (the full study, 10 000 moves by default; 699 s measured on the 2-core VM): every law, both
 cases and all three accountings in turn; ``exact`` against a converged IPOPT (max_iter 1000,
 tol 1e-10, no limit margin, 2000 nodes) and against IPOPT capped at 10 iterations (the paper's
 setting: how often and by how much it falls short, the data of Fig. 4b), plus the Fig. 4b sweep of
