@@ -24,14 +24,13 @@ from __future__ import annotations
 
 import math
 import random
-import tomllib
 from dataclasses import dataclass, fields
-from importlib import resources
 from pathlib import Path
 from typing import Any
 
 from ..model import AxisflowError, AxisParams
 from ..model.params import params_from_mapping
+from ..model.toml_file import read_toml
 from .drive import DRIVE_PERIOD_NS, Setpoint
 from .errors import PlantError
 from .messages import AxisSample
@@ -162,22 +161,9 @@ def plant_from_mapping(data: dict[str, Any], nominal: AxisParams, source: str = 
 
 def load_plant(path: str | Path | None, nominal: AxisParams) -> PlantConfig:
     """Load a plant file (None: the packaged default) relative to the ``nominal`` parameters."""
-    if path is None:
-        text = resources.files(__package__).joinpath(DEFAULT_PLANT_RESOURCE).read_text("utf-8")
-        source = f"default plant ({DEFAULT_PLANT_RESOURCE})"
-    else:
-        p = Path(path)
-        source = str(p)
-        try:
-            text = p.read_text("utf-8")
-        except FileNotFoundError:
-            raise PlantError(f"plant file {p} does not exist") from None
-        except OSError as exc:
-            raise PlantError(f"plant file {p} cannot be read: {exc.strerror}") from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise PlantError(f"{source}: not valid TOML: {exc}") from None
+    data, source = read_toml(
+        path, package=__package__, resource=DEFAULT_PLANT_RESOURCE, kind="plant", error=PlantError
+    )
     return plant_from_mapping(data, nominal, source)
 
 

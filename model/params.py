@@ -9,14 +9,13 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import tomllib
 from dataclasses import dataclass
 from enum import StrEnum
-from importlib import resources
 from pathlib import Path
 from typing import Any
 
 from .errors import ParameterError
+from .toml_file import read_toml
 from .units import PARAMETER_UNITS
 
 DEFAULT_PARAMS_RESOURCE = "default_axis.toml"
@@ -145,22 +144,9 @@ def params_from_mapping(data: dict[str, Any], source: str = "parameters") -> Axi
 
 def load_params(path: str | Path | None = None) -> AxisParams:
     """Load parameters from a TOML file, or the packaged default when ``path`` is None."""
-    if path is None:
-        text = resources.files(__package__).joinpath(DEFAULT_PARAMS_RESOURCE).read_text("utf-8")
-        source = f"default parameters ({DEFAULT_PARAMS_RESOURCE})"
-    else:
-        p = Path(path)
-        source = str(p)
-        try:
-            text = p.read_text("utf-8")
-        except FileNotFoundError:
-            raise ParameterError(f"parameter file {p} does not exist") from None
-        except OSError as exc:
-            raise ParameterError(f"parameter file {p} cannot be read: {exc.strerror}") from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ParameterError(f"{source}: not valid TOML: {exc}") from None
+    data, source = read_toml(
+        path, package=__package__, resource=DEFAULT_PARAMS_RESOURCE, kind="parameter", error=ParameterError
+    )
     return params_from_mapping(data, source)
 
 
