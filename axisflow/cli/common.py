@@ -81,3 +81,16 @@ def backend_from_args(args: argparse.Namespace):  # noqa: ANN201 - PlannerBacken
     if args.solver == "ipopt":
         return make_backend("ipopt", max_iter=args.max_iter)
     return make_backend(args.solver)
+
+
+def add_waypoint_options(parser: argparse.ArgumentParser) -> None:
+    """--seed and --waypoints of the experiment's random way points (uniform in [0, L])."""
+    from ..paper import PAPER_WAYPOINTS
+
+    parser.add_argument("--seed", type=non_negative_int, default=0, help="way point seed (default 0)")
+    parser.add_argument(
+        "--waypoints",
+        type=positive_int,
+        default=PAPER_WAYPOINTS,
+        help=f"number of way points (default {PAPER_WAYPOINTS})",
+    )

@@ -9,16 +9,14 @@ from pathlib import Path
 from ..experiment import run_offline, table_markdown
 from ..files import ensure_dir, write_atomic
 from ..model import AxisflowError
-from ..paper import PAPER_WAYPOINTS
 from ..planner import DEFAULT_OMEGA
 from .common import (
     add_params_option,
     add_solver_options,
+    add_waypoint_options,
     backend_from_args,
     finite_float,
-    non_negative_int,
     params_from_args,
-    positive_int,
 )
 
 
@@ -32,13 +30,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--offline", action="store_true", help="plan only, no drive (the only mode for now)")
     p.add_argument("--out", metavar="DIR", required=True, help="output directory (created if missing)")
-    p.add_argument("--seed", type=non_negative_int, default=0, help="way point seed (default 0)")
-    p.add_argument(
-        "--waypoints",
-        type=positive_int,
-        default=PAPER_WAYPOINTS,
-        help=f"number of way points (default {PAPER_WAYPOINTS})",
-    )
+    add_waypoint_options(p)
     p.add_argument(
         "--omega",
         type=finite_float,

@@ -9,9 +9,8 @@ from pathlib import Path
 from ..experiment import LAWS, draw_waypoints
 from ..files import ensure_dir, write_atomic
 from ..model import MoveError
-from ..paper import PAPER_WAYPOINTS
 from ..planner.pareto import DEFAULT_OMEGAS, check_omegas, sweep, time_optimal_point
-from .common import add_params_option, finite_float, non_negative_int, params_from_args, positive_int
+from .common import add_params_option, add_waypoint_options, finite_float, params_from_args
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -30,13 +29,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="law to sweep (repeatable; default: all three polynomial laws)",
     )
     p.add_argument("--out", metavar="DIR", default="out/pareto", help="output directory (default out/pareto)")
-    p.add_argument("--seed", type=non_negative_int, default=0, help="way point seed (default 0)")
-    p.add_argument(
-        "--waypoints",
-        type=positive_int,
-        default=PAPER_WAYPOINTS,
-        help=f"number of way points (default {PAPER_WAYPOINTS})",
-    )
+    add_waypoint_options(p)
     p.add_argument(
         "--omega",
         type=finite_float,
