@@ -55,6 +55,14 @@ SOLVER_HELP = {
 }
 
 
+def waypoint_count(text: str) -> int:
+    """argparse type: a number of way points (at least 2: one move)."""
+    value = non_negative_int(text)
+    if value < 2:
+        raise argparse.ArgumentTypeError(f"{value} way points make no move: at least 2 are needed")
+    return value
+
+
 def add_solver_options(parser: argparse.ArgumentParser, default: str = "exact") -> None:
     """``--solver exact|ipopt`` (default ``exact``, the online planner; the experiment passes
     ``ipopt`` to reproduce the paper) and IPOPT's ``--max-iter``."""
@@ -90,7 +98,7 @@ def add_waypoint_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=non_negative_int, default=0, help="way point seed (default 0)")
     parser.add_argument(
         "--waypoints",
-        type=positive_int,
+        type=waypoint_count,
         default=PAPER_WAYPOINTS,
         help=f"number of way points (default {PAPER_WAYPOINTS})",
     )

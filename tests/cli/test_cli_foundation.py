@@ -1,4 +1,5 @@
 import json
+import os
 import subprocess
 import sys
 
@@ -107,6 +108,17 @@ def test_experiment_writes_the_documented_json(tmp_path, capsys):
         assert row["energy_measured_j"] is None and row["energy_error_pct"] is None
         assert row["omega"] == (0.9 if row["case"] == "min-time-energy" else None)
     assert "| min-time | poly3 |" in (out / "table2.md").read_text()
+    umask = os.umask(0)
+    os.umask(umask)
+    assert (out / "table2.json").stat().st_mode & 0o777 == 0o666 & ~umask  # not mkstemp's private 0600
+
+
+def test_one_waypoint_is_refused(tmp_path, capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["experiment", "--offline", "--out", str(tmp_path / "x"), "--waypoints", "1"])
+    assert exc.value.code == 2
+    assert "at least 2 are needed" in capsys.readouterr().err
+    assert not (tmp_path / "x").exists()
 
 
 def test_same_seed_same_waypoints(tmp_path):
