@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from ..model import AxisParams, MoveError, polynomial_law
+from .backend import PlannerBackend
 from .exact_backend import solve_exact
 from .problem import Case, MoveProblem
 from .reference_laws import time_optimal
@@ -68,15 +69,18 @@ def sweep(
     omegas: Sequence[float] = DEFAULT_OMEGAS,
     t_min_s: float | None = None,
     t_max_s: float | None = None,
+    backend: PlannerBackend | None = None,
 ) -> ParetoCurve:
-    """Total time and energy of the case-2 plans through ``waypoints_m`` for each ω (exact solver)."""
+    """Total time and energy of the case-2 plans through ``waypoints_m`` for each ω (by default with
+    the exact solver; another ``backend``, e.g. IPOPT, gives its own, possibly off-front, points)."""
     poly = polynomial_law(law)
+    solve = solve_exact if backend is None else backend.solve
     points = []
     for w in check_omegas(omegas):
         times, energies, objectives = [], [], []
         for a, b in pairwise(waypoints_m):
             problem = MoveProblem(float(a), float(b), poly, Case.MIN_TIME_ENERGY, w, t_min_s, t_max_s)
-            sol = solve_exact(problem, params)
+            sol = solve(problem, params)
             times.append(sol.duration_s)
             energies.append(sol.energy_j)
             objectives.append(sol.objective)

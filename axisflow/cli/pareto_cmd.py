@@ -10,7 +10,14 @@ from ..experiment import LAWS, draw_waypoints
 from ..files import ensure_dir, write_atomic
 from ..model import MoveError
 from ..planner.pareto import DEFAULT_OMEGAS, check_omegas, sweep, time_optimal_point
-from .common import add_params_option, add_waypoint_options, finite_float, params_from_args
+from .common import (
+    add_params_option,
+    add_solver_options,
+    add_waypoint_options,
+    backend_from_args,
+    finite_float,
+    params_from_args,
+)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -39,6 +46,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="an ω of the sweep (repeatable; default: 0, 0.05, …, 1)",
     )
     add_params_option(p)
+    add_solver_options(p)
     p.set_defaults(func=run)
 
 
@@ -71,13 +79,14 @@ def run(args: argparse.Namespace) -> int:
     points = draw_waypoints(args.seed, args.waypoints, params.L)
     if len(points) < 2:  # pragma: no cover - draw_waypoints already requires 2
         raise MoveError("the sweep needs at least two way points")
-    curves = [sweep(points, law, params, omegas) for law in laws]
+    backend = None if args.solver == "exact" else backend_from_args(args)
+    curves = [sweep(points, law, params, omegas, backend=backend) for law in laws]
     bang = time_optimal_point(points, params)
     data = {
         "seed": args.seed,
         "waypoints_m": [float(w) for w in points],
         "params": params.to_dict(),
-        "solver": "exact",
+        "solver": args.solver,
         "curves": [c.to_json() for c in curves],
         "time_optimal": {"total_time_s": bang.total_time_s, "total_energy_j": bang.total_energy_j},
     }

@@ -107,3 +107,17 @@ def test_bench_planner_json_shape(capsys):
         assert set(data[solver]) == {"p50_us", "p99_us"}
         assert 0 < data[solver]["p50_us"] <= data[solver]["p99_us"]
     assert data["speedup_p50"] > 1.0
+
+
+def test_pareto_with_ipopt_is_never_better_than_the_exact_sweep(tmp_path):
+    args = ["pareto", "--waypoints", "6", "--law", "poly5", "--omega", "0.5", "--omega", "0.9"]
+    assert main([*args, "--out", str(tmp_path / "e")]) == 0
+    assert main([*args, "--solver", "ipopt", "--out", str(tmp_path / "i")]) == 0
+    exact = json.loads((tmp_path / "e" / "pareto.json").read_text())
+    ipopt = json.loads((tmp_path / "i" / "pareto.json").read_text())
+    assert (exact["solver"], ipopt["solver"]) == ("exact", "ipopt")
+    for je, ji in zip(
+        exact["curves"][0]["objective_total"], ipopt["curves"][0]["objective_total"], strict=True
+    ):
+        assert je <= ji * (1 + 1e-9)
+        assert ji <= je * 1.01  # IPOPT (cap 10) lands close to the optimum on these moves
