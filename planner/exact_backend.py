@@ -30,8 +30,11 @@ of β, h is convex (M·β²·|s''|/D convex, −a3·atan(a4·β·s') convex for 
 positive, so h⁺ and R are convex and non-decreasing in β; β = D/T is convex in T, hence R and
 J = J_s + (1 − ω)·c·R are convex in T. J is non-increasing on [T_feas, T_s] (T_s the signed
 optimum), so the minimiser is T_s when dJ/dT(T_s) ≥ 0, and otherwise the root of dJ/dT in a bracket
-[a, b] found by regula falsi (Illinois), dR/dT by differentiating under the integral. Certificate:
-by convexity min J ≥ the crossing of the tangents at a and b; ``gap_j`` is J(best) minus that bound.
+[a, b] found by safeguarded secant steps, dR/dT by differentiating under the integral. The steps start
+from a per-(law, axis, ω, accounting) table of the unconstrained optimum over log D (a Newton step
+with its tabulated slope, then probes aimed just past the root), typically 3 exact evaluations.
+Certificate: by convexity min J ≥ the crossing of the tangents at a and b (exact evaluations only,
+never the table); ``gap_j`` is J(best) minus that bound.
 """
 
 from __future__ import annotations
@@ -40,7 +43,7 @@ import bisect
 import itertools
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import lru_cache
 
 import numpy as np
@@ -79,6 +82,16 @@ def _graded_half_nodes(per_panel: int = 12) -> tuple[np.ndarray, np.ndarray]:
 
 
 _GL16_X, _GL16_W = np.polynomial.legendre.leggauss(16)
+_GL16_X1 = _GL16_X + 1.0
+_POWERS = np.arange(16, dtype=float)
+
+
+def _coefficient_columns(*polys: np.ndarray) -> np.ndarray:
+    """Polynomials (lowest power first) as the columns of one zero-padded matrix."""
+    out = np.zeros((max(p.size for p in polys), len(polys)))
+    for k, p in enumerate(polys):
+        out[: p.size, k] = p
+    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -108,6 +121,10 @@ class LawModel:
     """graded quadrature on [0, 1/2] and s' at its nodes (weights doubled for the symmetric half)"""
     table: tuple[list[float], list[float], list[float]] | None
     """(log D, log y, u) of the torque root at table nodes; None until :meth:`with_table`"""
+    s12: np.ndarray
+    """(n, 2): s' and s'' coefficients, lowest power first (columns), for vectorised evaluation"""
+    guess_tables: dict = field(default_factory=dict)
+    """(ω, c) → :func:`_braking_guess_table` (or None), and (ω, c, "solves") → solves without it"""
 
     @classmethod
     def build(cls, law: PolynomialLaw, params: AxisParams) -> LawModel:
@@ -138,6 +155,7 @@ class LawModel:
             half_w=2.0 * hw,
             half_s1=law.shape(hu, 1),
             table=None,
+            s12=_coefficient_columns(d[0], d[1]),
         ).with_table(params.L)
 
     # ---- torque: F and its derivatives at (u, y = 1/T) -------------------------------------------
@@ -390,15 +408,16 @@ class LawModel:
         if hint is not None:
             hint[:] = [lo, u, hi]
         half = 0.5 * (hi - lo)
-        x = lo + half * (_GL16_X + 1.0)
-        s1 = np.polyval(c1, x)
-        s2 = np.polyval(c2, x)
+        x = lo + half * _GL16_X1
+        s = np.power.outer(x, _POWERS[: self.s12.shape[0]]) @ self.s12  # s', s'' at the nodes
+        s1, s2 = s[:, 0], s[:, 1]
         v = beta * s1
         z = a4 * v
-        hv = np.maximum(A * s2 - a1 - a2 * v - a3 * np.arctan(z), 0.0)
-        dh = (-2.0 * A * s2 + (a2 + a3 * a4 / (1.0 + z * z)) * v) / T
-        w = D * half * _GL16_W * s1
-        return float(np.dot(w, hv)), float(np.dot(w, dh))
+        hv = A * s2 - a1 - a2 * v - a3 * np.arctan(z)
+        np.maximum(hv, 0.0, out=hv)
+        dh = (a2 + a3 * a4 / (1.0 + z * z)) * v - 2.0 * A * s2
+        w = (D * half) * (_GL16_W * s1)
+        return float(w @ hv), float(w @ dh) / T
 
 
 @lru_cache(maxsize=256)
@@ -507,59 +526,68 @@ def solve_exact(problem: MoveProblem, params: AxisParams) -> ExactSolution:
         t_s = t_c
     else:
         t_s, _, active = min_feasible_duration(problem, params, lm)
-    return _time_energy(problem, params, lm, D, t_s, active)
+    return _time_energy(problem, params, lm, D, t_s, active, beta)
 
 
-def _time_energy(
-    problem: MoveProblem, params: AxisParams, lm: LawModel, D: float, t_s: float, active: str
-) -> ExactSolution:
-    """Case 2 from the signed optimum ``t_s`` (already feasible and inside the bounds)."""
-    omega = problem.omega
-    t_max = problem.t_max_s
+class _Slope:
+    """dJ/dT of J = ω·T + (1 − ω)·(E_s + c·R) for one move, memoised per T (J itself on demand)."""
 
-    def j_signed(t: float) -> float:
-        return omega * t + (1.0 - omega) * lm.signed_energy(D, t)
+    __slots__ = ("D", "c", "hint", "lm", "memo", "omega")
 
-    acc = params.energy_accounting
-    if acc is EnergyAccounting.SIGNED:
-        e = lm.signed_energy(D, t_s)
-        slope = omega + (1.0 - omega) * lm.signed_energy_slope(D, t_s)
-        return ExactSolution(t_s, omega * t_s + (1 - omega) * e, e, active, {"gap_j": 0.0, "dJ_dT": slope})
-    c = 1.0 if acc is EnergyAccounting.POSITIVE else 2.0
-    cw = c * (1.0 - omega)
-    hint: list[float] = []
-    r_s, dr_s = lm.braking_energy_and_slope(D, t_s, hint)
-    j_s = j_signed(t_s) + cw * r_s
-    g_s = omega + (1.0 - omega) * (lm.signed_energy_slope(D, t_s) + c * dr_s)
-    if r_s == 0.0 or t_s >= t_max or omega >= 1.0 or g_s >= 0.0:
-        # J is convex (see the module docstring) and non-increasing on [T_feas, T_s]; dJ/dT ≥ 0 at
-        # T_s (or R = 0 there, so J = J_s from T_s on) makes T_s the global minimiser
-        e = lm.signed_energy(D, t_s) + c * r_s
-        return ExactSolution(t_s, j_s, e, active, {"gap_j": 0.0, "dJ_dT": g_s})
+    def __init__(self, lm: LawModel, D: float, omega: float, c: float) -> None:
+        self.lm, self.D, self.omega, self.c = lm, D, omega, c
+        self.hint: list[float] = []
+        self.memo: dict[float, tuple[float, float]] = {}
 
-    memo: dict[float, tuple[float, float, float]] = {t_s: (j_s, g_s, r_s)}
-
-    def point(t: float) -> tuple[float, float, float]:
-        """(J, dJ/dT, R) at t, memoised."""
-        got = memo.get(t)
+    def __call__(self, t: float) -> tuple[float, float]:
+        """(dJ/dT, R) at t: exact evaluations (analytic interval, Gauss–Legendre), memoised."""
+        got = self.memo.get(t)
         if got is None:
-            r, dr = lm.braking_energy_and_slope(D, t, hint)
-            got = memo[t] = (
-                j_signed(t) + cw * r,
-                omega + (1.0 - omega) * (lm.signed_energy_slope(D, t) + c * dr),
-                r,
-            )
+            lm, D, omega = self.lm, self.D, self.omega
+            r, dr = lm.braking_energy_and_slope(D, t, self.hint)
+            got = self.memo[t] = (omega + (1.0 - omega) * (lm.signed_energy_slope(D, t) + self.c * dr), r)
         return got
 
-    # the root of dJ/dT (increasing: J is convex) right of T_s: secant steps from a probe next to
-    # T_s, kept inside the bracket [a, b] (dJ/dT(a) < 0 < dJ/dT(b)) once one is known; bisection
-    # when a step leaves the bracket or the iteration stalls
+    def objective(self, t: float) -> float:
+        """J(t) [same units as the objective]; R from the memo when t was evaluated."""
+        r = self(t)[1]
+        return self.omega * t + (1.0 - self.omega) * (self.lm.signed_energy(self.D, t) + self.c * r)
+
+
+def _slope_root(
+    slope: _Slope, t_s: float, g_s: float, t_max: float, guess: tuple[float, float] | None = None
+) -> tuple[float, float, float, bool]:
+    """The root of dJ/dT (increasing: J is convex) right of T_s, where dJ/dT(T_s) = g_s < 0.
+
+    Returns (a, b, g_last, open): dJ/dT(a) ≤ 0 ≤ dJ/dT(b) with b − a ≤ 1e-10·b, or ``open`` when
+    dJ/dT < 0 up to t_max (then a = t_max). Secant steps, kept inside the bracket [a, b] once one is
+    known; bisection when a step leaves it or stalls. ``guess`` = (T₀, dJ/dT'(T₀)) from the per-law
+    table (:func:`_braking_guess_table`): the iteration then starts with an exact evaluation at T₀ and
+    a Newton step with the tabulated slope, instead of a probe next to T_s. Close to the root
+    (the secant's error estimate far below 1e-11·T) each probe is aimed 1e-11·T past the secant's
+    root, away from the end just evaluated, so that the bracket closes in one or two more
+    evaluations. Only exact evaluations of dJ/dT decide the bracket: the guess changes the path,
+    never the proof.
+    """
     a, b = t_s, math.inf
     x_prev, g_prev = t_s, g_s
     x = min(t_s * (1.0 + 1e-3), t_max)
+    if guess is not None:
+        t0, gp = guess
+        if t_s <= t0 < t_max and gp > 0.0:
+            g0 = slope(t0)[0]
+            if g0 > 0.0:
+                b = t0
+            else:
+                a = t0
+            if g0 == 0.0:
+                return t0, t0, 0.0, False
+            x_prev, g_prev = t0, g0
+            nx = t0 - g0 / gp  # (when it is already the left end, its value is memoised)
+            x = nx if a <= nx < min(b, t_max) else (0.5 * (a + b) if b < math.inf else min(t0 * 1.01, t_max))
     gx = g_s
     for it in range(_NEWTON_MAX):
-        _, gx, _ = point(x)
+        gx = slope(x)[0]
         if gx > 0.0:
             b = min(b, x)
         else:
@@ -569,33 +597,210 @@ def _time_energy(
         if gx < 0.0 and x >= t_max:  # J decreasing up to the bound
             break
         nx = x - gx * (x - x_prev) / (gx - g_prev) if gx != g_prev else math.nan
+        # the secant's error is ~ |nx − x|·|nx − x_prev|/T: when that is far below 1e-11·T, a probe
+        # 1e-11·T past nx lands on the other side of the root
+        err = abs(nx - x) * abs(nx - x_prev) / x
+        near = err <= 1e-13 * x
         x_prev, g_prev = x, gx
         if b == math.inf:
             if not nx > a:  # no sensible secant step yet: double the distance from T_s
                 nx = t_s + 2.0 * (a - t_s)
             # aim a hair past the secant's root, so that a step from the left also brackets it
-            x = min(nx + 1e-10 * nx, t_max)
+            x = min(nx + min(max(1e-11 * nx, 4.0 * err), 1e-10 * nx), t_max)
+        elif a < nx < b and it < 12:
+            if near:  # aim past the root, away from the end just evaluated
+                hair = nx + (1e-11 * nx if gx < 0.0 else -1e-11 * nx)
+                if a < hair < b:
+                    nx = hair
+            x = nx
         else:
-            x = nx if a < nx < b and it < 12 else 0.5 * (a + b)
+            x = 0.5 * (a + b)
     if b == math.inf:
-        jb, gb, rb = point(t_max)
-        if gb <= 0.0:  # dJ/dT ≤ 0 up to T_max
-            e = lm.signed_energy(D, t_max) + c * rb
-            return ExactSolution(t_max, jb, e, "t_max", {"gap_j": 0.0, "dJ_dT": gb})
-        b = t_max
+        return a, a, gx, True
     while b - a > 1e-10 * b and gx != 0.0:  # fallback: bisection (not reached in practice)
         x = 0.5 * (a + b)
-        _, gx, _ = point(x)
+        gx = slope(x)[0]
         if gx > 0.0:
             b = x
         else:
             a = x
-    ja, ga, ra = point(a)
-    jb, gb, rb = point(b)
-    # convexity: J ≥ max of the tangents at a and b; their crossing bounds min J from below
     if gx == 0.0:
         a = b = x
-        ja, ga, ra = jb, gb, rb = point(x)
+    return a, b, gx, False
+
+
+_GUESS_NODES = 48
+"""base nodes of the start table over [1e-3·L, L] (16 more over [1e-7·L, 1e-3·L))"""
+_GUESS_REFINE = 8
+"""sub-intervals per base interval where the optimum has braking energy"""
+_GUESS_BUILD_AFTER = 16
+"""solves with braking energy at the optimum (same law, axis, ω, accounting) after which a solve
+builds the start table itself (20–60 ms); :meth:`ExactBackend.prepare` builds it at once. A one-off
+sweep over many ω (``axisflow pareto``) then does not pay for tables it would hardly use."""
+"""sub-intervals per base interval where the optimum has braking energy"""
+
+
+@lru_cache(maxsize=512)
+def _braking_guess_table(
+    law: PolynomialLaw, params: AxisParams, omega: float, c: float
+) -> tuple[list[float], list[float], list[float], float] | None:
+    """Start points for :func:`_slope_root`: (log D, log(T_opt·β*/D), log(T·dJ/dT')) over log D,
+    and the log D above which no node has braking energy at its optimum (no guess there).
+
+    T_opt is the unconstrained optimum (no bounds, no limits) of a move of length D with the braking
+    energy counted c times, solved by :func:`_slope_root` from T = D/β* (each node started from the
+    previous one); dJ/dT' there by a central difference. Base nodes: 16 log-spaced D in
+    [1e-7·L, 1e-3·L) and 48 in [1e-3·L, L]; every base interval with braking at either end is
+    split in 8 (the braking optimum turns on over a narrow range of D, ~12 % wide for poly5).
+    Interpolation (quadratic in log D) then gives T_opt to ~1e-5 and one Newton step with the
+    tabulated slope ~1e-8, so two to four exact evaluations close the bracket. None when no move
+    has braking energy at its optimum. Built once per (law, axis, ω, accounting), ~20–60 ms.
+    """
+    beta = optimal_speed_ratio(law, params, omega)
+    if not 0.0 < beta < math.inf:
+        return None
+    lm = law_model(law, params)
+    nodes: dict[float, tuple[float, float]] = {}
+    last: list[tuple[float, float]] = []
+
+    def node(D: float) -> None:
+        t_s = D / beta
+        slope = _Slope(lm, D, omega, c)
+        g_s, r_s = slope(t_s)
+        t_opt = t_s
+        if r_s > 0.0 and g_s < 0.0:
+            prev = (t_s * last[0][0], last[0][1] / t_s) if last else None
+            a, b, _, is_open = _slope_root(slope, t_s, g_s, math.inf, prev)
+            if is_open:  # pragma: no cover - J is bounded below by ω·T
+                return
+            t_opt = 0.5 * (a + b)
+        h = 1e-5 * t_opt
+        gp = (slope(t_opt + h)[0] - slope(t_opt - h)[0]) / (2.0 * h)
+        if gp > 0.0:
+            nodes[D] = (t_opt / t_s, t_opt * gp)
+            last[:] = [(t_opt / t_s, t_opt * gp)]
+
+    base = params.L * np.concatenate(
+        [np.geomspace(1e-7, 1e-3, 16, endpoint=False), np.geomspace(1e-3, 1.0, _GUESS_NODES)]
+    )
+    for D in base:
+        node(float(D))
+    if not any(r > 1.0 for r, _ in nodes.values()):
+        return None
+    for lo, hi in itertools.pairwise(base):
+        if nodes.get(float(lo), (1.0,))[0] > 1.0 or nodes.get(float(hi), (1.0,))[0] > 1.0:
+            last[:] = [nodes[float(lo)]] if float(lo) in nodes else []
+            for D in np.geomspace(lo, hi, _GUESS_REFINE + 1)[1:-1]:
+                node(float(D))
+    ds = sorted(nodes)
+    if len(ds) < 3:
+        return None
+    k = max(i for i, D in enumerate(ds) if nodes[D][0] > 1.0)
+    return (
+        [math.log(D) for D in ds],
+        [math.log(nodes[D][0]) for D in ds],
+        [math.log(nodes[D][1]) for D in ds],
+        math.log(ds[min(k + 1, len(ds) - 1)]),
+    )
+
+
+def _guess(
+    table: tuple[list[float], list[float], list[float], float] | None, D: float, t_free: float
+) -> tuple[float, float] | None:
+    """(T₀, dJ/dT'(T₀)) interpolated from the table (None outside it); t_free = D/β*."""
+    if table is None:
+        return None
+    log_d, log_r, log_s, x_braking = table
+    x = math.log(D)
+    if not log_d[0] <= x <= x_braking:
+        return None
+    k = min(bisect.bisect_right(log_d, x) - 1, len(log_d) - 2)
+    w = (x - log_d[k]) / (log_d[k + 1] - log_d[k])
+    lr = log_r[k] + w * (log_r[k + 1] - log_r[k])
+    # quadratic through the nearest three nodes where the optimum has braking (log_r > 0)
+    j = k - 1 if w < 0.5 and k > 0 else min(k, len(log_d) - 3)
+    if j >= 0 and log_r[j] > 0.0 and log_r[j + 1] > 0.0 and log_r[j + 2] > 0.0:
+        x0, x1, x2 = log_d[j], log_d[j + 1], log_d[j + 2]
+        lr = (
+            log_r[j] * (x - x1) * (x - x2) / ((x0 - x1) * (x0 - x2))
+            + log_r[j + 1] * (x - x0) * (x - x2) / ((x1 - x0) * (x1 - x2))
+            + log_r[j + 2] * (x - x0) * (x - x1) / ((x2 - x0) * (x2 - x1))
+        )
+    t0 = t_free * math.exp(lr)
+    return t0, math.exp(log_s[k] + w * (log_s[k + 1] - log_s[k])) / t0
+
+
+def _time_energy(
+    problem: MoveProblem,
+    params: AxisParams,
+    lm: LawModel,
+    D: float,
+    t_s: float,
+    active: str,
+    beta: float,
+) -> ExactSolution:
+    """Case 2 from the signed optimum ``t_s`` (already feasible and inside the bounds); β* given."""
+    omega = problem.omega
+    t_max = problem.t_max_s
+    acc = params.energy_accounting
+    if acc is EnergyAccounting.SIGNED:
+        e = lm.signed_energy(D, t_s)
+        slope = omega + (1.0 - omega) * lm.signed_energy_slope(D, t_s)
+        return ExactSolution(t_s, omega * t_s + (1 - omega) * e, e, active, {"gap_j": 0.0, "dJ_dT": slope})
+    c = 1.0 if acc is EnergyAccounting.POSITIVE else 2.0
+    slope = _Slope(lm, D, omega, c)
+    guess = None
+    if 0.0 < beta < math.inf and t_s < t_max:
+        table = lm.guess_tables.get((omega, c))  # built by prepare(), or below once it pays off
+        if table:
+            guess = _guess(table, D, D / beta)
+            if guess is not None and not (t_s < guess[0] < t_max and guess[1] > 0.0):
+                guess = None
+    left = None
+    if guess is not None:
+        # dJ/dT < 0 at some T > T_s: J is convex, so its minimiser lies right of it and T_s needs
+        # no evaluation; try T₀ and, when dJ/dT(T₀) > 0, the Newton step from it and a secant probe
+        t0, gp = guess
+        g0 = slope(t0)[0]
+        if g0 < 0.0:
+            left = t0, g0
+        elif g0 > 0.0 and t_s < t0 - g0 / gp:
+            x1 = t0 - g0 / gp
+            g1 = slope(x1)[0]
+            if g1 < 0.0:
+                left = x1, g1
+            elif g1 > 0.0 and g1 < g0:  # still right of the root: a secant probe aimed just left of it
+                nx = x1 - g1 * (x1 - t0) / (g1 - g0)
+                x2 = nx - max(1e-11 * nx, 4.0 * abs(nx - x1) * abs(nx - t0) / nx)
+                if t_s < x2:
+                    g2 = slope(x2)[0]
+                    if g2 < 0.0:
+                        left = x2, g2
+    if left is not None:
+        a, b, gx, is_open = _slope_root(slope, left[0], left[1], t_max, guess)
+    else:
+        g_s, r_s = slope(t_s)
+        if r_s == 0.0 or t_s >= t_max or omega >= 1.0 or g_s >= 0.0:
+            # J is convex (see the module docstring) and non-increasing on [T_feas, T_s]; dJ/dT ≥ 0
+            # at T_s (or R = 0 there, so J = J_s from T_s on) makes T_s the global minimiser
+            e = lm.signed_energy(D, t_s) + c * r_s
+            return ExactSolution(t_s, slope.objective(t_s), e, active, {"gap_j": 0.0, "dJ_dT": g_s})
+        if guess is None and (omega, c) not in lm.guess_tables:
+            seen = lm.guess_tables[omega, c, "solves"] = lm.guess_tables.get((omega, c, "solves"), 0) + 1
+            if seen >= _GUESS_BUILD_AFTER:
+                lm.guess_tables[omega, c] = _braking_guess_table(problem.law, params, omega, c)
+        a, b, gx, is_open = _slope_root(slope, t_s, g_s, t_max, guess)
+    if is_open:
+        gb, rb = slope(t_max)
+        if gb <= 0.0:  # dJ/dT ≤ 0 up to T_max
+            e = lm.signed_energy(D, t_max) + c * rb
+            return ExactSolution(t_max, slope.objective(t_max), e, "t_max", {"gap_j": 0.0, "dJ_dT": gb})
+        a, b, gx, _ = _slope_root(slope, a, slope(a)[0], t_max)  # pragma: no cover - not reached
+    ga, ra = slope(a)
+    gb, rb = slope(b)
+    ja, jb = slope.objective(a), slope.objective(b)
+    # convexity: J ≥ max of the tangents at a and b; their crossing bounds min J from below
+    if a == b:
         lb = ja
     elif gb > ga:
         t_x = (jb - ja + ga * a - gb * b) / (ga - gb)
@@ -619,10 +824,18 @@ class ExactBackend:
     name = "exact"
 
     def prepare(self, problem: MoveProblem, params: AxisParams) -> None:
-        """Build the law's tables and, for case 2, the optimal speed ratio for ω (both cached)."""
+        """Build the law's tables and, for case 2, the optimal speed ratio for ω and the braking
+        optimum's start table (all cached)."""
         law_model(problem.law, params)
         if problem.case is Case.MIN_TIME_ENERGY:
             optimal_speed_ratio(problem.law, params, problem.omega)
+            acc = params.energy_accounting
+            if acc is not EnergyAccounting.SIGNED:
+                c = 1.0 if acc is EnergyAccounting.POSITIVE else 2.0
+                lm = law_model(problem.law, params)
+                lm.guess_tables[problem.omega, c] = _braking_guess_table(
+                    problem.law, params, problem.omega, c
+                )
 
     def solve(self, problem: MoveProblem, params: AxisParams) -> PlanResult:
         t0 = time.perf_counter()

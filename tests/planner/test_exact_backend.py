@@ -98,6 +98,53 @@ def test_a_short_move_with_braking_energy_has_an_interior_optimum_and_a_tight_ga
     assert sol.certificate["gap_j"] <= 1e-9 * sol.objective
 
 
+@pytest.mark.parametrize("accounting", ["positive", "absolute"])
+@pytest.mark.parametrize("law", LAWS)
+def test_the_start_table_changes_the_path_not_the_answer(law, accounting):
+    """Short moves with braking energy: the table-started root search and the plain secant from T_s
+    reach the same optimum, and every certificate is a proved bracket of the root of dJ/dT."""
+    from axisflow.planner.exact_backend import _Slope, _slope_root, law_model
+
+    p = default_params().replace(energy_accounting=accounting)
+    c = 1.0 if accounting == "positive" else 2.0
+    lm = law_model(polynomial_law(law), p)
+    make_backend("exact").prepare(MoveProblem(0.3, 0.33, law, Case.MIN_TIME_ENERGY), p)
+    omega = MoveProblem(0.3, 0.33, law, Case.MIN_TIME_ENERGY).omega
+    assert lm.guess_tables[omega, c]  # solves below start from the table
+    interior = 0
+    for D in np.geomspace(0.02, 0.07, 60):
+        problem = MoveProblem(0.3, 0.3 + float(D), law, Case.MIN_TIME_ENERGY)
+        sol = solve_exact(problem, p)
+        if "t_lower_s" not in sol.certificate:
+            continue
+        interior += 1
+        a, b = sol.certificate["t_lower_s"], sol.certificate["t_upper_s"]
+        assert a <= sol.duration_s <= b and b - a <= 1e-10 * b
+        slope = _Slope(lm, float(D), problem.omega, c)
+        # (a fresh evaluation starts its Newton iterations elsewhere: equal to rounding, ~1e-15)
+        assert slope(a)[0] <= 1e-12 and slope(b)[0] >= -1e-12
+        assert sol.certificate["gap_j"] <= 1e-9 * sol.objective
+        # unguided: from the smallest feasible duration at or above the signed optimum
+        t_s = max(float(D) / _beta(problem, p), problem.t_min_s, _t_feas(problem, p))
+        g_s = slope(t_s)[0]
+        if g_s < 0.0:
+            a2, b2, _, _ = _slope_root(_Slope(lm, float(D), problem.omega, c), t_s, g_s, problem.t_max_s)
+            assert max(a, a2) <= min(b, b2) * (1 + 1e-10)  # the two proved brackets overlap
+    assert interior >= 5
+
+
+def _beta(problem, p):
+    from axisflow.planner.exact_backend import optimal_speed_ratio
+
+    return optimal_speed_ratio(problem.law, p, problem.omega)
+
+
+def _t_feas(problem, p):
+    from axisflow.planner.exact_backend import min_feasible_duration
+
+    return min_feasible_duration(problem, p)[0]
+
+
 @pytest.mark.parametrize("accounting", list(EnergyAccounting))
 def test_exact_never_violates_a_limit_at_1khz(accounting):
     p = default_params().replace(energy_accounting=accounting)
