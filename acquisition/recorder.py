@@ -33,7 +33,7 @@ import zenoh
 from .attachment import unpack_attachment
 from .errors import RecordingError
 from .histogram import DurationHistogram, DurationStats
-from .keys import all_keys, topic_for_key
+from .keys import KeyExprError, all_keys, topic_for_key
 from .mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE, Ros2McapWriter
 from .publisher import type_of_encoding
 
@@ -71,6 +71,13 @@ class RecorderConfig:
         parent = Path(self.output).parent
         if not parent.is_dir():
             raise RecordingError(f"output directory {parent} does not exist")
+        try:  # before any file is opened: a bad expression must not leave an empty recording behind
+            zenoh.KeyExpr(self.keys)
+        except zenoh.ZError as exc:
+            reason = str(exc).split(" at /")[0]  # drop the Rust source location
+            raise KeyExprError(
+                f"--keys {self.keys!r} is not a valid Zenoh key expression: {reason}"
+            ) from None
 
 
 @dataclass

@@ -29,6 +29,7 @@ def test_bridge_with_default_zenoh_config_exits(cli):
         (["bridge", "--sim", "--axis", "a/b"], "axis name 'a/b' is not a valid key-expression part"),
         (["record", "-o", "x.txt"], "must end in .mcap"),
         (["record", "-o", "x.mcap", "--duration", "0"], "duration = 0.0 s must be > 0 s"),
+        (["record", "-o", "x.mcap", "--keys", "a//b"], "--keys 'a//b' is not a valid Zenoh key expression"),
         (["recover", "missing.mcap"], "recording missing.mcap does not exist"),
         (["replay", "missing.mcap"], "recording missing.mcap does not exist"),
         (
