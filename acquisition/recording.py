@@ -9,6 +9,7 @@ last second) and stops there.
 from __future__ import annotations
 
 import logging
+import struct
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -30,21 +31,37 @@ class RecordedMessage:
     message: Message
 
 
+MCAP_MAGIC = b"\x89MCAP0\r\n"
+
+
+def check_mcap(path: str | Path) -> Path:
+    """``path`` as a Path if it exists and starts with the MCAP magic; else a :class:`RecordingError`."""
+    p = Path(path)
+    if not p.is_file():
+        raise RecordingError(f"recording {p} does not exist")
+    with open(p, "rb") as fh:
+        head = fh.read(len(MCAP_MAGIC))
+    if head != MCAP_MAGIC:
+        raise RecordingError(
+            f"{p} is not an MCAP file: its first {len(head)} bytes {head!r} are not the "
+            f"{len(MCAP_MAGIC)}-byte MCAP magic {MCAP_MAGIC!r}"
+        )
+    return p
+
+
 def is_complete(path: str | Path) -> bool:
     """True if the file has a readable summary/footer (what a clean finish writes)."""
     try:
         with open(path, "rb") as fh:
             make_reader(fh).get_summary()
-    except (McapError, OSError, ValueError, EOFError):
+    except (McapError, OSError, ValueError, EOFError, struct.error):
         return False
     return True
 
 
 def iter_recording(path: str | Path, complete_only: bool = False) -> Iterator[RecordedMessage]:
     """Messages of a recording in file order (truncated files: up to the last complete chunk)."""
-    p = Path(path)
-    if not p.is_file():
-        raise RecordingError(f"recording {p} does not exist")
+    p = check_mcap(path)
     if is_complete(p):
         with open(p, "rb") as fh:
             for schema, channel, message in make_reader(fh).iter_messages(log_time_order=True):

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from .errors import RecordingError
 from .mcap_writer import Ros2McapWriter
-from .recording import is_complete, iter_recording
+from .recording import check_mcap, is_complete, iter_recording
 
 
 @dataclass(frozen=True)
@@ -43,8 +43,7 @@ def recover(source: str | Path, output: str | Path | None = None, compression: s
     """Rewrite ``source`` (possibly truncated) into a complete file ``output``."""
     src = Path(source)
     dst = Path(output) if output is not None else default_output(src)
-    if not src.is_file():
-        raise RecordingError(f"recording {src} does not exist")
+    check_mcap(src)  # before the output is created: nothing written for a missing or non-MCAP file
     if dst.resolve() == src.resolve():
         raise RecordingError(f"output {dst} must differ from the source {src}")
     was_complete = is_complete(src)

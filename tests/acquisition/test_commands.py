@@ -58,3 +58,15 @@ def test_pipeline_benchmark_smoke(cli):
     assert r["max_axes_zero_loss"] == 2
     assert r["recorder_flood"]["lost"] == 0 and r["recorder_flood"]["ratio_to_baseline"] > 0
     assert r["memory"]["axes"] == 2 and r["memory"]["peak_rss_mb"] > 0
+
+
+@pytest.mark.parametrize("command", ["recover", "replay"])
+@pytest.mark.parametrize("content", [b"abc", bytes(range(256)) * 16], ids=["3-bytes", "4-KiB-noise"])
+def test_a_file_that_is_not_mcap_is_refused_and_nothing_is_written(cli, tmp_path, command, content):
+    source = tmp_path / "noise.mcap"
+    source.write_bytes(content)
+    result = cli.run(command, str(source), timeout=30)
+    assert result.returncode == 2, (result.stdout, result.stderr)
+    assert f"{source} is not an MCAP file" in result.stderr
+    assert "Traceback" not in result.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["noise.mcap"]
