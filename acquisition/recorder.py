@@ -54,6 +54,8 @@ class RecorderConfig:
     split_duration_s: float | None = None
     chunk_size: int = DEFAULT_CHUNK_SIZE
     queue_capacity: int = DEFAULT_QUEUE_CAPACITY
+    overwrite: bool = False
+    """replace existing recordings (``output`` or its split files) instead of refusing to start"""
 
     def __post_init__(self) -> None:
         if self.compression not in COMPRESSIONS:
@@ -71,6 +73,20 @@ class RecorderConfig:
         parent = Path(self.output).parent
         if not parent.is_dir():
             raise RecordingError(f"output directory {parent} does not exist")
+        if not self.overwrite:
+            out = Path(self.output)
+            split = self.split_bytes is not None or self.split_duration_s is not None
+            existing = (
+                sorted(out.parent.glob(f"{out.stem}_[0-9][0-9][0-9][0-9]{out.suffix}")) if split else []
+            )
+            if not split and out.exists():
+                existing = [out]
+            if existing:
+                raise RecordingError(
+                    f"output {existing[0]} already exists"
+                    + (f" (and {len(existing) - 1} more split files)" if len(existing) > 1 else "")
+                    + ": choose another name or pass --overwrite"
+                )
         try:  # before any file is opened: a bad expression must not leave an empty recording behind
             zenoh.KeyExpr(self.keys)
         except zenoh.ZError as exc:

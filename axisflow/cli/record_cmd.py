@@ -64,6 +64,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--queue", type=positive_int, default=1 << 16, metavar="N", help="receive queue capacity (messages)"
     )
     p.add_argument("--json", action="store_true", help="print the summary as one JSON object")
+    p.add_argument(
+        "--overwrite",
+        action="store_true",
+        help="replace an existing FILE (or its split files); without it, record refuses to start",
+    )
     add_zenoh_options(p)
     p.set_defaults(func=run)
 
@@ -79,6 +84,7 @@ def run(args: argparse.Namespace) -> int:
         split_duration_s=args.split_duration,
         queue_capacity=args.queue,
         chunk_size=args.chunk_size,
+        overwrite=args.overwrite,
     )
     recorder = Recorder(config)
     with stop_on_signals() as stop, open_session(zenoh_options_from_args(args)) as session:

@@ -70,3 +70,25 @@ def test_a_file_that_is_not_mcap_is_refused_and_nothing_is_written(cli, tmp_path
     assert f"{source} is not an MCAP file" in result.stderr
     assert "Traceback" not in result.stderr
     assert sorted(p.name for p in tmp_path.iterdir()) == ["noise.mcap"]
+
+
+@pytest.mark.parametrize(
+    ("existing", "split_args"),
+    [("x.mcap", []), ("x_0000.mcap", ["--split-duration", "1"])],
+    ids=["single", "split"],
+)
+def test_record_refuses_to_overwrite_unless_asked(cli, tmp_path, port, existing, split_args):
+    old = tmp_path / existing
+    old.write_bytes(b"precious")
+    out = str(tmp_path / "x.mcap")
+    listen = ["--listen", f"tcp/127.0.0.1:{port}"]
+    result = cli.run("record", "-o", out, *split_args, *listen, "--duration", "0.2", timeout=30)
+    assert result.returncode == 2, (result.stdout, result.stderr)
+    assert f"output {old} already exists" in result.stderr and "--overwrite" in result.stderr
+    assert "Traceback" not in result.stderr
+    assert old.read_bytes() == b"precious"
+    result = cli.run(
+        "record", "-o", out, *split_args, *listen, "--duration", "0.2", "--overwrite", timeout=30
+    )
+    assert result.returncode == 0, result.stderr
+    assert old.read_bytes() != b"precious"
