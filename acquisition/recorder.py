@@ -41,6 +41,8 @@ log = logging.getLogger(__name__)
 
 DEFAULT_QUEUE_CAPACITY = 1 << 16
 _IDLE_SLEEP_S = 0.0005
+LIVE_STAMP_WINDOW_NS = 1_000_000_000
+"""a stamp further than this from the wall clock is not live (e.g. a replay): no latency from it"""
 
 
 @dataclass(frozen=True)
@@ -120,6 +122,8 @@ class RecordSummary:
     wall_time_s: float = 0.0
     latency: DurationStats | None = None
     """publish (attachment stamp) → write [µs]"""
+    stale_stamps: int = 0
+    """messages whose stamp was more than LIVE_STAMP_WINDOW_NS from the wall clock (not in latency)"""
 
     @property
     def messages(self) -> int:
@@ -139,7 +143,12 @@ class RecordSummary:
             lines.append(
                 f"  {t.topic:<40} {t.messages:>9} {t.duration_s:>10.3f} {t.rate_hz:>9.1f} {t.missed:>7}"
             )
-        if self.latency is not None and self.latency.count:
+        if self.stale_stamps:
+            lines.append(
+                f"  publish→write latency: n/a (stamps not live: {self.stale_stamps} of {self.messages} "
+                f"more than {LIVE_STAMP_WINDOW_NS * 1e-9:g} s from the wall clock, e.g. a replay)"
+            )
+        elif self.latency is not None and self.latency.count:
             lines.append(
                 f"  publish→write latency: p50 {self.latency.p50_us:.0f} µs, p99 {self.latency.p99_us:.0f} µs"
             )
@@ -151,7 +160,8 @@ class RecordSummary:
             "messages": self.messages,
             "missed": self.missed,
             "wall_time_s": self.wall_time_s,
-            "latency": self.latency.to_dict() if self.latency else None,
+            "latency": self.latency.to_dict() if self.latency and not self.stale_stamps else None,
+            "stale_stamps": self.stale_stamps,
             "topics": {
                 t.topic: {
                     "messages": t.messages,
@@ -222,7 +232,10 @@ class Recorder:
             if last is not None and seq > last + 1:
                 stats.missed += seq - last - 1
             self._last_seq[(topic, gid)] = seq
-            self._latency.add_ns(now - stamp)
+            if abs(now - stamp) <= LIVE_STAMP_WINDOW_NS:
+                self._latency.add_ns(now - stamp)
+            else:
+                self.summary.stale_stamps += 1
         else:
             seq, stamp = 0, now
         writer.add(channel_id, now, stamp, seq, sample.payload.to_bytes())

@@ -29,9 +29,17 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--wait-subscribers",
         type=finite_float,
-        default=0.0,
+        default=5.0,
         metavar="S",
-        help="wait up to S seconds for a subscriber before the first message",
+        help="wait up to S seconds for a subscriber before the first message (default 5; messages "
+        "published before anyone subscribes are lost)",
+    )
+    p.add_argument(
+        "--no-wait",
+        dest="wait_subscribers",
+        action="store_const",
+        const=0.0,
+        help="publish at once, without waiting for a subscriber",
     )
     add_zenoh_options(p)
     p.set_defaults(func=run)
