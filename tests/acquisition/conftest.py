@@ -8,6 +8,7 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import ClassVar
 
 import pytest
 from mcap.reader import make_reader
@@ -30,12 +31,26 @@ class Cli:
     def free_port() -> int:
         return _free_port()
 
+    started: ClassVar[list[subprocess.Popen]] = []
+    """every process of :meth:`start`; the autouse fixture kills those still running after a test"""
+
     @staticmethod
     def start(*args: str) -> subprocess.Popen:
-        """Start ``axisflow ARGS`` in the background (text output captured)."""
-        return subprocess.Popen(
+        """Start ``axisflow ARGS`` in the background (text output captured; killed after the test)."""
+        proc = subprocess.Popen(
             [*CLI, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV
         )
+        Cli.started.append(proc)
+        return proc
+
+    @staticmethod
+    def kill_leftovers() -> None:
+        """Kill and reap every started process still running (a failed test did not stop it)."""
+        for proc in Cli.started:
+            if proc.poll() is None:
+                proc.kill()
+                proc.communicate()
+        Cli.started.clear()
 
     @staticmethod
     def run(*args: str, timeout: float = 60.0) -> subprocess.CompletedProcess:
@@ -71,6 +86,13 @@ class Cli:
 @pytest.fixture(scope="session")
 def cli() -> Cli:
     return Cli()
+
+
+@pytest.fixture(autouse=True)
+def _no_leftover_processes():
+    """After each test (pass or fail), no process started through ``cli.start`` keeps running."""
+    yield
+    Cli.kill_leftovers()
 
 
 @pytest.fixture

@@ -3,6 +3,7 @@ at the end even though the sender's session is gone (real sessions on tcp/127.0.
 
 import signal
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -83,13 +84,17 @@ def test_sender_finds_the_bridge_through_the_recorder_by_gossip(cli, tmp_path, p
     out = tmp_path / "moves.mcap"
     rec = cli.start("record", "-o", str(out), "--listen", f"tcp/127.0.0.1:{port}")
     cli.wait_for_file(out)
-    bridge = cli.start("bridge", "--sim", "--connect", f"tcp/127.0.0.1:{port}", "--duration", "3", "--json")
+    # a long duration: the bridge must not exit before a loaded machine lets the sender find it;
+    # it is stopped with SIGINT once the move is done
+    bridge = cli.start("bridge", "--sim", "--connect", f"tcp/127.0.0.1:{port}", "--duration", "120", "--json")
     with (
         open_session(ZenohOptions.loopback(connect_port=port)) as planner,
         MoveSender(planner, AxisKeys()) as sender,
     ):
-        assert sender.wait_for_bridge(10.0)
+        assert sender.wait_for_bridge(30.0)
         sender.send(0.0, 0.2, 0.6)
+        time.sleep(2.0)  # the 0.6 s move runs to its end
+    bridge.send_signal(signal.SIGINT)
     bridge_out, bridge_err = cli.finish(bridge)
     rec.send_signal(signal.SIGINT)
     rec_out, _ = cli.finish(rec)
