@@ -15,8 +15,22 @@ def test_record_and_bridge_exit_on_their_own(cli, tmp_path, port):
     assert "recorded" in out, err
 
 
-def test_bridge_with_default_zenoh_config_exits(cli):
-    result = cli.run("bridge", "--sim", "--duration", "0.2", "--speed", "0", "--json", timeout=30)
+def test_bridge_with_default_zenoh_config_exits_even_when_7447_is_taken(cli):
+    """The embedded default listens on 7447 if free and on a port of its own: it must also work when
+    something else (here: a plain socket, or whatever already holds it) has 7447, so the test does
+    not depend on the port being free."""
+    import socket
+
+    holder = socket.socket()
+    try:
+        holder.bind(("127.0.0.1", 7447))
+        holder.listen()
+    except OSError:
+        pass  # already taken by another process: the same situation
+    try:
+        result = cli.run("bridge", "--sim", "--duration", "0.2", "--speed", "0", "--json", timeout=60)
+    finally:
+        holder.close()
     assert result.returncode == 0, result.stderr
     assert '"ticks": 200' in result.stdout
 
