@@ -16,7 +16,7 @@ from typing import Any
 
 from .errors import ParameterError
 from .toml_file import read_toml
-from .units import PARAMETER_UNITS
+from .units import PARAMETER_UNITS, with_unit
 
 DEFAULT_PARAMS_RESOURCE = "default_axis.toml"
 
@@ -75,13 +75,19 @@ class AxisParams:
             value = getattr(self, name)
             unit = PARAMETER_UNITS[name]
             if isinstance(value, bool) or not isinstance(value, int | float):
-                raise ParameterError(f"parameter {name} must be a number in {unit}, got {value!r}")
+                raise ParameterError(
+                    f"parameter {name} must be a number{f' in {unit}' if unit else ''}, got {value!r}"
+                )
             if not math.isfinite(value):
-                raise ParameterError(f"parameter {name} = {value} {unit} is not finite")
+                raise ParameterError(f"parameter {name} = {with_unit(value, unit)} is not finite")
             if name in _STRICTLY_POSITIVE and value <= 0:
-                raise ParameterError(f"parameter {name} = {value} {unit} must be > 0 {unit}")
+                raise ParameterError(
+                    f"parameter {name} = {with_unit(value, unit)} must be > {with_unit(0, unit)}"
+                )
             if name in _NON_NEGATIVE and value < 0:
-                raise ParameterError(f"parameter {name} = {value} {unit} must be >= 0 {unit}")
+                raise ParameterError(
+                    f"parameter {name} = {with_unit(value, unit)} must be >= {with_unit(0, unit)}"
+                )
             object.__setattr__(self, name, float(value))
         try:
             accounting = EnergyAccounting(self.energy_accounting)
@@ -129,9 +135,8 @@ def params_from_mapping(data: dict[str, Any], source: str = "parameters") -> Axi
     """Validate a flat mapping into :class:`AxisParams`; unknown or missing keys are errors."""
     unknown = sorted(set(data) - set(FILE_KEYS))
     if unknown:
-        raise ParameterError(
-            f"{source}: unknown key(s) {', '.join(unknown)}; allowed keys: {', '.join(FILE_KEYS)}"
-        )
+        given = ", ".join(f"{k} = {data[k]!r}" for k in unknown)
+        raise ParameterError(f"{source}: unknown key(s) {given}; allowed keys: {', '.join(FILE_KEYS)}")
     missing = [k for k in FILE_KEYS if k not in data]
     if missing:
         units = ", ".join(f"{k} [{PARAMETER_UNITS[k]}]" if PARAMETER_UNITS[k] else k for k in missing)
@@ -160,6 +165,6 @@ def params_to_toml(params: AxisParams) -> str:
     lines = []
     for key in PARAMETER_KEYS:
         unit = PARAMETER_UNITS[key]
-        lines.append(f"{key} = {getattr(params, key)!r}  # {unit}")
+        lines.append(f"{key} = {getattr(params, key)!r}" + (f"  # {unit}" if unit else ""))
     lines.append(f'energy_accounting = "{params.energy_accounting.value}"')
     return "\n".join(lines) + "\n"

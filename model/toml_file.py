@@ -29,6 +29,10 @@ def read_toml(
             raise error(f"{kind} file {p} does not exist") from None
         except OSError as exc:
             raise error(f"{kind} file {p} cannot be read: {exc.strerror}") from None
+        except UnicodeDecodeError as exc:
+            raise error(
+                f"{kind} file {p} is not UTF-8 text (byte {exc.object[exc.start]:#04x} at offset {exc.start})"
+            ) from None
     try:
         return tomllib.loads(text), source
     except tomllib.TOMLDecodeError as exc:

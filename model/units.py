@@ -2,13 +2,19 @@
 
 from __future__ import annotations
 
+
+def with_unit(value: object, unit: str) -> str:
+    """``value`` followed by its unit, or the bare value for a dimensionless quantity ("" unit)."""
+    return f"{value} {unit}" if unit else f"{value}"
+
+
 PARAMETER_UNITS: dict[str, str] = {
     "m": "kg",
     "J_m": "kg·m²",
     "J_g": "kg·m²",
     "J_p": "kg·m²",
     "r": "m",
-    "i_r": "1",
+    "i_r": "",
     "L": "m",
     "a1": "N",
     "a2": "N·s/m",

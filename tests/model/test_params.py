@@ -63,7 +63,8 @@ def test_toml_round_trip(tmp_path):
 @pytest.mark.parametrize(
     ("overrides", "match"),
     [
-        ({"mass": 3.0}, r"unknown key\(s\) mass"),
+        ({"mass": 3.0}, r"unknown key\(s\) mass = 3.0"),
+        ({"i_r": 0.0}, r"i_r = 0.0 must be > 0$"),
         ({"a4": None}, r"missing key\(s\) a4 \[s/m\]"),
         ({"m": -1.0}, r"m = -1.0 kg must be > 0 kg"),
         ({"m": 0.0}, r"m = 0.0 kg must be > 0 kg"),
@@ -97,6 +98,13 @@ def test_missing_and_malformed_files(tmp_path):
     f = tmp_path / "broken.toml"
     f.write_text("m = = 3\n")
     with pytest.raises(ParameterError, match="not valid TOML"):
+        load_params(f)
+
+
+def test_a_binary_file_is_named_as_not_text(tmp_path):
+    f = tmp_path / "binary.toml"
+    f.write_bytes(b"m = 3\n\xff\xfe\x00")
+    with pytest.raises(ParameterError, match=r"binary.toml is not UTF-8 text \(byte 0xff at offset 6\)"):
         load_params(f)
 
 
