@@ -16,11 +16,19 @@ from .dynamics import (
 from .energy import count_power, move_energy, trace_energy
 from .errors import AxisflowError, MoveError, ParameterError
 from .limits import EXECUTION_RATE_HZ, LimitReport, check_limits, execution_times
-from .motion_laws import POLYNOMIAL_LAWS, Move, MoveSamples, PolynomialLaw, polynomial_law
+from .motion_laws import (
+    MAX_MOVE_DURATION_S,
+    POLYNOMIAL_LAWS,
+    Move,
+    MoveSamples,
+    PolynomialLaw,
+    polynomial_law,
+)
 from .params import AxisParams, EnergyAccounting, default_params, load_params, params_to_toml
 
 __all__ = [
     "EXECUTION_RATE_HZ",
+    "MAX_MOVE_DURATION_S",
     "POLYNOMIAL_LAWS",
     "AxisParams",
     "AxisflowError",

@@ -49,17 +49,23 @@ def execution_times(duration_s: float, rate_hz: float = EXECUTION_RATE_HZ) -> np
     return t
 
 
+_CHUNK_SAMPLES = 1 << 16
+"""samples evaluated at once, so that the check of a long move needs bounded memory"""
+
+
 def check_limits(move: Move, params: AxisParams, rate_hz: float = EXECUTION_RATE_HZ) -> LimitReport:
     """Peaks and worst violation of velocity and motor torque at the execution samples."""
-    t = execution_times(move.duration_s, rate_hz)
-    s = move.sample(t)
-    tau = motor_torque(cart_force(s.velocity_m_s, s.acceleration_m_s2, params), params)
-    v_peak = float(np.max(np.abs(s.velocity_m_s)))
-    tau_peak = float(np.max(np.abs(tau)))
+    t_all = execution_times(move.duration_s, rate_hz)
+    v_peak = tau_peak = 0.0
+    for start in range(0, t_all.size, _CHUNK_SAMPLES):
+        s = move.sample(t_all[start : start + _CHUNK_SAMPLES])
+        tau = motor_torque(cart_force(s.velocity_m_s, s.acceleration_m_s2, params), params)
+        v_peak = max(v_peak, float(np.max(np.abs(s.velocity_m_s))))
+        tau_peak = max(tau_peak, float(np.max(np.abs(tau))))
     return LimitReport(
         peak_velocity_m_s=v_peak,
         peak_torque_nm=tau_peak,
         velocity_violation=max(v_peak / params.v_max - 1.0, 0.0),
         torque_violation=max(tau_peak / params.tau_max - 1.0, 0.0),
-        samples=int(t.size),
+        samples=int(t_all.size),
     )

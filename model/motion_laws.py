@@ -93,6 +93,10 @@ class PolynomialLaw:
         return float(P.polyval(1.0, P.polyint(sq)))
 
 
+MAX_MOVE_DURATION_S = 3600.0
+"""the longest move the model accepts [s]: one hour, 3.6 million samples at the 1 kHz execution rate
+(the paper's bounds end at 20 s; anything longer than this is a unit mistake, not a move)"""
+
 POLY3 = PolynomialLaw.of_degree(3)
 POLY5 = PolynomialLaw.of_degree(5)
 POLY7 = PolynomialLaw.of_degree(7)
@@ -128,12 +132,16 @@ class Move:
     law: PolynomialLaw
 
     def __post_init__(self) -> None:
-        for name in ("x0_m", "x1_m", "duration_s"):
+        for name, unit in (("x0_m", "m"), ("x1_m", "m"), ("duration_s", "s")):
             value = getattr(self, name)
             if not math.isfinite(value):
-                raise MoveError(f"move {name} = {value} is not finite")
+                raise MoveError(f"move {name} = {value} {unit} is not finite")
         if self.duration_s <= 0:
             raise MoveError(f"move duration_s = {self.duration_s} s must be > 0 s")
+        if self.duration_s > MAX_MOVE_DURATION_S:
+            raise MoveError(
+                f"move duration_s = {self.duration_s} s exceeds the longest move, {MAX_MOVE_DURATION_S:g} s"
+            )
 
     @property
     def distance_m(self) -> float:

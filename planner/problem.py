@@ -16,7 +16,7 @@ import math
 from dataclasses import dataclass
 from enum import StrEnum
 
-from ..model import AxisParams, MoveError, PolynomialLaw, polynomial_law
+from ..model import MAX_MOVE_DURATION_S, AxisParams, MoveError, PolynomialLaw, polynomial_law
 
 
 class Case(StrEnum):
@@ -76,6 +76,8 @@ class MoveProblem:
             raise MoveError(f"w0 = {self.w0} must be > 0")
         if self.t_min_s <= 0.0:
             raise MoveError(f"t_min_s = {self.t_min_s} s must be > 0 s")
+        if self.t_max_s > MAX_MOVE_DURATION_S:
+            raise MoveError(f"t_max_s = {self.t_max_s} s exceeds the longest move, {MAX_MOVE_DURATION_S:g} s")
         if self.t_min_s > self.t_max_s:
             raise MoveError(
                 f"duration bounds are empty: t_min_s = {self.t_min_s} s > t_max_s = {self.t_max_s} s"

@@ -1,3 +1,4 @@
+import numpy as np
 import pytest
 from axisflow.model import Move, check_limits, default_params, execution_times, polynomial_law
 
@@ -28,3 +29,14 @@ def test_torque_violation_is_relative_to_tau_max():
     report = check_limits(Move(0.0, 0.8, 0.15, polynomial_law("poly3")), p)
     assert report.torque_violation == pytest.approx(report.peak_torque_nm / p.tau_max - 1.0)
     assert report.max_violation >= report.torque_violation
+
+
+def test_a_long_move_is_checked_in_chunks_with_the_same_result(monkeypatch):
+    p = default_params()
+    move = Move(0.0, 0.8, 0.4321, polynomial_law("poly7"))
+    whole = check_limits(move, p)
+    monkeypatch.setattr("axisflow.model.limits._CHUNK_SAMPLES", 7)
+    chunked = check_limits(move, p)
+    assert chunked == whole
+    s = move.sample(execution_times(move.duration_s))
+    assert whole.peak_velocity_m_s == np.max(np.abs(s.velocity_m_s))

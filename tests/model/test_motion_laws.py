@@ -75,7 +75,9 @@ def test_laws_are_monotone_so_they_never_overshoot(name):
 def test_bad_moves():
     with pytest.raises(MoveError, match=r"duration_s = 0.0 s must be > 0 s"):
         Move(0.0, 0.1, 0.0, POLYNOMIAL_LAWS["poly3"])
-    with pytest.raises(MoveError, match=r"x1_m = nan is not finite"):
+    with pytest.raises(MoveError, match=r"x1_m = nan m is not finite"):
         Move(0.0, float("nan"), 1.0, POLYNOMIAL_LAWS["poly3"])
+    with pytest.raises(MoveError, match=r"duration_s = 3601.0 s exceeds the longest move, 3600 s"):
+        Move(0.0, 0.1, 3601.0, POLYNOMIAL_LAWS["poly3"])
     with pytest.raises(MoveError, match="unknown motion law 'poly4'"):
         polynomial_law("poly4")
