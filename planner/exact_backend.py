@@ -128,6 +128,13 @@ class LawModel:
 
     @classmethod
     def build(cls, law: PolynomialLaw, params: AxisParams) -> LawModel:
+        if params.f_max <= params.a1:
+            # F(u, T) → a1 as T → ∞: no duration makes the torque peak meet the limit
+            raise InfeasibleMoveError(
+                f"the motor torque limit tau_max = {params.tau_max} N·m gives a cart force of at most "
+                f"F_max = {params.f_max:.6g} N, not above the Coulomb friction a1 = {params.a1} N: "
+                "the axis cannot move"
+            )
         d = [np.asarray(c, dtype=float) for c in law.derivatives]
         d4 = np.polynomial.polynomial.polyder(d[2])
         u = np.linspace(0.0, 1.0, 2001)
@@ -637,7 +644,6 @@ _GUESS_BUILD_AFTER = 16
 """solves with braking energy at the optimum (same law, axis, ω, accounting) after which a solve
 builds the start table itself (20–60 ms); :meth:`ExactBackend.prepare` builds it at once. A one-off
 sweep over many ω (``axisflow pareto``) then does not pay for tables it would hardly use."""
-"""sub-intervals per base interval where the optimum has braking energy"""
 
 
 @lru_cache(maxsize=512)

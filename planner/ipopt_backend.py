@@ -24,7 +24,7 @@ from functools import lru_cache
 import casadi as ca
 import numpy as np
 
-from ..model import AxisParams, EnergyAccounting, PolynomialLaw
+from ..model import AxisParams, EnergyAccounting, MoveError, PolynomialLaw
 from .evaluation import finish, require_feasible_bounds
 from .problem import Case, MoveProblem
 from .result import PlanResult, SolveStatus
@@ -52,11 +52,11 @@ class IpoptSettings:
 
     def __post_init__(self) -> None:
         if self.max_iter < 1:
-            raise ValueError(f"max_iter = {self.max_iter} must be >= 1")
+            raise MoveError(f"IPOPT max_iter = {self.max_iter} must be >= 1")
         if self.nodes < 2 or self.nodes % 2:
-            raise ValueError(f"nodes = {self.nodes} must be an even number >= 2")
+            raise MoveError(f"IPOPT nodes = {self.nodes} must be an even number >= 2")
         if not 0.0 <= self.limit_margin < 0.5:
-            raise ValueError(f"limit_margin = {self.limit_margin} must be in [0, 0.5)")
+            raise MoveError(f"IPOPT limit_margin = {self.limit_margin} must be in [0, 0.5)")
 
 
 def _simpson_weights(n: int) -> np.ndarray:

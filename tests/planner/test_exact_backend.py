@@ -208,6 +208,20 @@ def test_zero_length_move_and_infeasible_bounds(params):
         make_backend("exact", max_iter=3)
 
 
+@pytest.mark.parametrize("case", list(Case))
+def test_an_axis_whose_torque_limit_cannot_beat_coulomb_friction_is_infeasible(params, case):
+    weak = params.replace(tau_max=0.25)  # F_max = 62.5 N < a1 = 72 N
+    with pytest.raises(
+        InfeasibleMoveError, match=r"F_max = 62.5 N, not above the Coulomb friction a1 = 72.0 N"
+    ):
+        make_backend("exact").solve(MoveProblem(0.1, 0.5, "poly5", case), weak)
+
+
+def test_duration_bounds_beyond_the_longest_move_are_refused():
+    with pytest.raises(MoveError, match=r"t_max_s = 1e\+300 s exceeds the longest move, 3600 s"):
+        MoveProblem(0.1, 0.5, "poly5", t_max_s=1e300)
+
+
 def test_omega_limits(params):
     fast = solve_exact(MoveProblem(0.1, 0.6, "poly5", Case.MIN_TIME_ENERGY, omega=1.0), params)
     t1 = solve_exact(MoveProblem(0.1, 0.6, "poly5", Case.MIN_TIME, t_min_s=0.3, t_max_s=20.0), params)
