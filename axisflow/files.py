@@ -25,6 +25,26 @@ def ensure_dir(path: str | Path) -> Path:
     return p
 
 
+def check_output_dir(path: str | Path) -> Path:
+    """Fail early, creating nothing, if ``path`` could not be used by :func:`ensure_dir` later: it is
+    a file, or its nearest existing ancestor is a file or not writable."""
+    p = Path(path)
+    if p.exists():
+        if not p.is_dir():
+            raise OutputError(f"output directory {p} exists and is not a directory")
+        if not os.access(p, os.W_OK | os.X_OK):
+            raise OutputError(f"output directory {p} is not writable")
+        return p
+    ancestor = p.absolute().parent
+    while not ancestor.exists():
+        ancestor = ancestor.parent
+    if not ancestor.is_dir():
+        raise OutputError(f"output directory {p} cannot be created: {ancestor} is not a directory")
+    if not os.access(ancestor, os.W_OK | os.X_OK):
+        raise OutputError(f"output directory {p} cannot be created: {ancestor} is not writable")
+    return p
+
+
 def _umask() -> int:
     mask = os.umask(0)
     os.umask(mask)

@@ -4,10 +4,9 @@ from __future__ import annotations
 
 import argparse
 import json
-from pathlib import Path
 
 from ..experiment import run_offline, table_markdown
-from ..files import ensure_dir, write_atomic
+from ..files import check_output_dir, ensure_dir, write_atomic
 from ..model import AxisflowError
 from ..planner import DEFAULT_OMEGA
 from .common import (
@@ -55,7 +54,7 @@ def run(args: argparse.Namespace) -> int:
         )
     params = params_from_args(args)
     backend = backend_from_args(args)
-    out = Path(args.out)
+    out = check_output_dir(args.out)  # a bad --out fails before the run, not after it
     result = run_offline(
         params, backend, seed=args.seed, waypoints=args.waypoints, omega=args.omega, limits=not args.no_limits
     )

@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import argparse
+import io
 import json
 from pathlib import Path
 
 from ..experiment import LAWS, draw_waypoints
-from ..files import ensure_dir, write_atomic
+from ..files import check_output_dir, ensure_dir, write_atomic
 from ..model import MoveError
 from ..planner.pareto import DEFAULT_OMEGAS, check_omegas, sweep, time_optimal_point
 from .common import (
@@ -68,12 +69,15 @@ def _plot(data: dict, path: Path) -> None:
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
     fig.tight_layout()
-    fig.savefig(path)
+    png = io.BytesIO()
+    fig.savefig(png, format="png")
     plt.close(fig)
+    write_atomic(path, png.getvalue())
 
 
 def run(args: argparse.Namespace) -> int:
     params = params_from_args(args)
+    check_output_dir(args.out)  # a bad --out fails before the sweep, not after it
     laws = tuple(dict.fromkeys(args.law or LAWS))
     omegas = check_omegas(args.omega) if args.omega else DEFAULT_OMEGAS
     points = draw_waypoints(args.seed, args.waypoints, params.L)

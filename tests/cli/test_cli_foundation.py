@@ -134,12 +134,18 @@ def test_experiment_needs_offline_for_now(tmp_path, capsys):
     assert "--offline" in capsys.readouterr().err
 
 
-def test_experiment_into_a_file_path_fails_cleanly_and_writes_nothing(tmp_path, capsys):
+def test_experiment_into_a_file_path_fails_cleanly_and_writes_nothing(tmp_path, capsys, monkeypatch):
+    def not_before_the_output_is_checked(*_args, **_kwargs):
+        raise AssertionError("the experiment ran before its --out was checked")
+
+    monkeypatch.setattr("axisflow.cli.experiment_cmd.run_offline", not_before_the_output_is_checked)
     target = tmp_path / "file"
     target.write_text("keep me")
     assert main(["experiment", "--offline", "--out", str(target), "--waypoints", "3"]) == 2
     assert "exists and is not a directory" in capsys.readouterr().err
     assert target.read_text() == "keep me"
+    assert main(["experiment", "--offline", "--out", str(target / "below"), "--waypoints", "3"]) == 2
+    assert f"{target} is not a directory" in capsys.readouterr().err
 
 
 def test_every_subcommand_has_help():
