@@ -67,7 +67,7 @@ class SequencedPublisher:
 
     @property
     def has_subscribers(self) -> bool:
-        return bool(self._pub.matching_status)
+        return self._pub.matching_status.matching
 
     def undeclare(self) -> None:
         self._pub.undeclare()

@@ -177,6 +177,8 @@ def _run_step(tmp: Path, n_axes: int, seconds: float, speed: float = 1.0, sample
     rss_trace: list[tuple[float, int]] = []
     try:
         while not out.exists():
+            if rec.poll() is not None:
+                raise RuntimeError(f"the recorder exited before recording: {rec.communicate()[1][-2000:]}")
             time.sleep(0.02)
         pub = subprocess.Popen(
             [*PUBLISHER, str(port), str(n_axes), str(seconds), str(speed)],
@@ -203,6 +205,8 @@ def _run_step(tmp: Path, n_axes: int, seconds: float, speed: float = 1.0, sample
     if pub.returncode != 0 or not pub_out.strip():
         raise RuntimeError(f"publisher failed: {pub_err[-2000:]}")
     p = json.loads(pub_out.strip().splitlines()[-1])
+    if not p["matched"]:
+        raise RuntimeError(f"the publisher found no recorder subscribed within 15 s ({n_axes} axes)")
     summary = json.loads(rec_out) if rec_out.strip() else {}
     a = _analyse(out)
     published = p["ticks"] * p["axes"]
