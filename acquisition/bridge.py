@@ -1,20 +1,26 @@
 """The drive bridge: a 1 kHz loop between a :class:`~axisflow.acquisition.drive.Drive` and Zenoh.
 
-Each tick k (drive time ``t0 + k·1 ms``) the bridge
+While it runs the bridge holds the liveliness token ``<prefix>/<axis>/alive`` so senders can find it,
+and watches the move senders' tokens ``<prefix>/<axis>/sender/*``. Moves arriving on
+``<prefix>/<axis>/trajectory`` are decoded and validated off the loop
+(:class:`~axisflow.acquisition.move_intake.MoveIntake`). Each tick k (drive time ``t0 + k·1 ms``) the
+bridge
 
-While it runs it holds the liveliness token ``<prefix>/<axis>/alive`` so senders can find it.
-
-1. takes the moves that arrived on ``<prefix>/<axis>/trajectory`` (a Zenoh FIFO channel filled on
-   Zenoh's thread) and validates/queues them (:class:`~axisflow.acquisition.move_queue.MoveQueue`);
-   each accepted or rejected move is logged and published on ``<prefix>/<axis>/event``;
-2. reads the drive's sample and publishes it on ``state``;
-3. computes the setpoint of tick k, publishes it on ``setpoint`` and applies it to the drive.
+1. applies the senders that appeared or disappeared: a sender gone drops its moves that have not
+   started (and those queued after them); the running move ends at rest;
+2. queues the moves validated since the last tick (:class:`~axisflow.acquisition.move_queue.MoveQueue`);
+   a move is accepted only from a live sender; each acceptance, rejection, completion and drop is
+   logged and published on ``<prefix>/<axis>/event``;
+3. reads the drive's sample and publishes it on ``state``;
+4. computes the setpoint of tick k, publishes it on ``setpoint`` and applies it to the drive.
 
 Pacing: at ``speed`` > 0 tick k starts at ``start + k·1 ms / speed`` on the monotonic clock (a late
 tick runs at once; the schedule does not drift); at ``speed`` 0 ticks run back to back and telemetry
 publishers block when the consumers are full ("as fast as the consumers allow"). The stamps are drive
-time and always advance by exactly 1 ms. The periods between tick starts are kept in a histogram;
-their deviation from the nominal period is the jitter reported on exit.
+time and always advance by exactly 1 ms; the first sample is read once the publishers are ready (and
+the subscribers waited for), so a simulated drive's clock starts with the loop. The periods between
+tick starts are kept in a histogram; their deviation from the nominal period is the jitter reported
+on exit.
 """
 
 from __future__ import annotations
@@ -27,12 +33,12 @@ from dataclasses import dataclass, field
 import zenoh
 
 from ..model import AxisParams
-from .attachment import unpack_attachment
 from .drive import DRIVE_PERIOD_NS, Drive
 from .errors import AcquisitionError
 from .histogram import DurationHistogram, DurationStats
-from .keys import AxisKeys
-from .messages import JOINT_STATE_TYPE, STRING_TYPE, BridgeEvent, MoveCommand
+from .keys import AxisKeys, sender_of_token
+from .messages import JOINT_STATE_TYPE, STRING_TYPE, BridgeEvent
+from .move_intake import MoveIntake
 from .move_queue import DEFAULT_JUMP_TOLERANCE_M, MoveQueue
 from .publisher import SequencedPublisher, Traffic, wait_for_subscribers
 
@@ -58,6 +64,8 @@ class BridgeConfig:
             raise AcquisitionError(f"bridge speed = {self.speed} must be >= 0 (0 = as fast as possible)")
         if self.duration_s is not None and not self.duration_s > 0.0:
             raise AcquisitionError(f"bridge duration = {self.duration_s} s must be > 0 s")
+        if not self.jump_tolerance_m >= 0.0:
+            raise AcquisitionError(f"bridge jump tolerance = {self.jump_tolerance_m} m must be >= 0 m")
         if not self.wait_subscribers_s >= 0.0:
             raise AcquisitionError(
                 f"bridge wait for subscribers = {self.wait_subscribers_s} s must be >= 0 s"
@@ -73,6 +81,8 @@ class BridgeReport:
     moves_accepted: int = 0
     moves_rejected: int = 0
     moves_completed: int = 0
+    moves_dropped: int = 0
+    """queued moves dropped because their sender disappeared"""
     moves_missed: int = 0
     """moves lost on the way, from the senders' sequence numbers"""
     period_jitter: DurationStats | None = None
@@ -84,7 +94,7 @@ class BridgeReport:
             f"bridge: {self.ticks} ticks ({self.ticks / 1000:.3f} s of drive time) "
             f"in {self.wall_time_s:.3f} s",
             f"  moves: {self.moves_accepted} accepted, {self.moves_completed} completed, "
-            f"{self.moves_rejected} rejected, {self.moves_missed} missed",
+            f"{self.moves_rejected} rejected, {self.moves_dropped} dropped, {self.moves_missed} missed",
         ]
         if self.period_jitter is not None and self.period_jitter.count:
             j = self.period_jitter
@@ -93,24 +103,6 @@ class BridgeReport:
                 f"over {j.count} periods"
             )
         return "\n".join(lines)
-
-
-class _SequenceTracker:
-    """Counts sequence-number gaps per publisher id."""
-
-    def __init__(self) -> None:
-        self._last: dict[bytes, int] = {}
-        self.missed = 0
-
-    def see(self, attachment: bytes | None) -> None:
-        parsed = unpack_attachment(attachment) if attachment is not None else None
-        if parsed is None:
-            return
-        seq, _stamp, gid = parsed
-        last = self._last.get(gid)
-        if last is not None and seq > last + 1:
-            self.missed += seq - last - 1
-        self._last[gid] = seq
 
 
 def run_bridge(
@@ -125,15 +117,15 @@ def run_bridge(
     keys = config.keys
     report = BridgeReport()
     telemetry = Traffic.BULK if config.speed == 0 else Traffic.TELEMETRY
-    first = drive.read()
-    queue = MoveQueue(params, first.position_m, first.stamp_ns, keys.axis, config.jump_tolerance_m)
     n_ticks = None if config.duration_s is None else round(config.duration_s * 1e9 / DRIVE_PERIOD_NS)
-    tracker = _SequenceTracker()
     jitter = DurationHistogram()
+    # validation needs only the parameters; the queue itself is made once the first sample is read
+    validator = MoveQueue(params, 0.0, 0, keys.axis, config.jump_tolerance_m)
     with (
-        session.declare_subscriber(
-            keys.trajectory, zenoh.handlers.FifoChannel(TRAJECTORY_QUEUE_CAPACITY)
-        ) as moves_in,
+        MoveIntake(session, keys.trajectory, validator.validate) as intake,
+        session.liveliness().declare_subscriber(
+            keys.senders, zenoh.handlers.FifoChannel(256), history=True
+        ) as sender_tokens,
         SequencedPublisher(session, keys.state, JOINT_STATE_TYPE, telemetry) as state_pub,
         SequencedPublisher(session, keys.setpoint, JOINT_STATE_TYPE, telemetry) as setpoint_pub,
         SequencedPublisher(session, keys.event, STRING_TYPE, Traffic.COMMAND) as event_pub,
@@ -143,9 +135,18 @@ def run_bridge(
             log.warning(
                 "no subscriber on %s after %.1f s; starting anyway", keys.state, config.wait_subscribers_s
             )
+        first = drive.read()
+        queue = MoveQueue(params, first.position_m, first.stamp_ns, keys.axis, config.jump_tolerance_m)
+        alive: set[bytes] = set()
 
         def event(text: str) -> None:
             event_pub.put(BridgeEvent(text).encode())
+
+        def reject(reason: str) -> None:
+            report.moves_rejected += 1
+            report.rejections.append(reason)
+            log.warning("rejected: %s", reason)
+            event(f"rejected {reason}")
 
         nominal_ns = DRIVE_PERIOD_NS / config.speed if config.speed > 0 else 0.0
         t_start = time.monotonic_ns()
@@ -155,23 +156,45 @@ def run_bridge(
             if config.speed > 0:
                 deadline = t_start + int(tick * nominal_ns)
                 now = time.monotonic_ns()
-                if deadline - now > _SLEEP_MARGIN_NS:
-                    time.sleep((deadline - now - _SLEEP_MARGIN_NS) * 1e-9)
+                if deadline - now > _SLEEP_MARGIN_NS and stop.wait(
+                    (deadline - now - _SLEEP_MARGIN_NS) * 1e-9
+                ):
+                    break
                 while (now := time.monotonic_ns()) < deadline:
                     pass
                 if tick:
                     jitter.add_ns(abs(now - prev - int(nominal_ns)))
                 prev = now
-            while (sample_in := moves_in.try_recv()) is not None:
-                tracker.see(sample_in.attachment.to_bytes() if sample_in.attachment is not None else None)
+            while (token := sender_tokens.try_recv()) is not None:
+                gid = sender_of_token(str(token.key_expr))
+                if gid is None:
+                    continue
+                if token.kind == zenoh.SampleKind.PUT:
+                    alive.add(gid)
+                    continue
+                alive.discard(gid)
+                dropped = queue.drop_sender(gid, tick)
+                if dropped:
+                    report.moves_dropped += len(dropped)
+                    ids = ", ".join(str(q.command.move_id) for q in dropped)
+                    log.warning("sender %s disappeared: dropped moves %s", gid.hex(), ids)
+                    event(f"dropped moves {ids}: their sender {gid.hex()} disappeared")
+            for received in intake.poll():
+                cmd = received.command
+                if received.error:
+                    reject(received.error)
+                    continue
+                assert cmd is not None and received.move is not None
+                if received.sender not in alive:
+                    reject(
+                        f"move {cmd.move_id}: its sender holds no liveliness token {keys.senders} "
+                        "(send moves with MoveSender and keep it open while they run)"
+                    )
+                    continue
                 try:
-                    cmd = MoveCommand.decode(sample_in.payload.to_bytes())
-                    queued = queue.submit(cmd, tick)
+                    queued = queue.enqueue(cmd, received.move, tick, received.sender)
                 except AcquisitionError as exc:
-                    report.moves_rejected += 1
-                    report.rejections.append(str(exc))
-                    log.warning("rejected: %s", exc)
-                    event(f"rejected {exc}")
+                    reject(str(exc))
                     continue
                 report.moves_accepted += 1
                 log.info("accepted move %d: ticks %d..%d", cmd.move_id, queued.start_tick, queued.end_tick)
@@ -183,10 +206,13 @@ def run_bridge(
             setpoint = queue.setpoint(tick)
             setpoint_pub.put(setpoint.to_sample(sample.stamp_ns, keys.axis, params).encode())
             drive.apply(setpoint)
+            for done in queue.finished:
+                event(f"completed move {done.command.move_id} at tick {done.end_tick}")
+            queue.finished.clear()
             tick += 1
         report.ticks = tick
         report.wall_time_s = (time.monotonic_ns() - t_start) * 1e-9
         report.moves_completed = queue.completed
-        report.moves_missed = tracker.missed
+        report.moves_missed = intake.missed
         report.period_jitter = jitter.stats() if config.speed > 0 else None
     return report

@@ -6,7 +6,9 @@ Per axis, under a configurable prefix (default ``axisflow``):
 * ``<prefix>/<axis>/setpoint`` — what the drive is commanded each tick (same type and joints);
 * ``<prefix>/<axis>/trajectory`` — moves sent to the drive, ``axisflow_msgs/msg/Move``;
 * ``<prefix>/<axis>/event`` — the bridge's events (accepted/rejected moves), ``std_msgs/msg/String``;
-* ``<prefix>/<axis>/alive`` — a Zenoh liveliness token held by the running bridge (not pub/sub data).
+* ``<prefix>/<axis>/alive`` — a Zenoh liveliness token held by the running bridge (not pub/sub data);
+* ``<prefix>/<axis>/sender/<id>`` — a liveliness token held by each move sender while it lives
+  (``<id>``: the hex publisher id in its moves' attachments); a bridge runs only moves of live senders.
 
 The MCAP topic of a key is ``/`` + the key (``/axisflow/a0/state``).
 """
@@ -66,6 +68,23 @@ class AxisKeys:
     def alive(self) -> str:
         """liveliness token of the running bridge"""
         return f"{self.prefix}/{self.axis}/alive"
+
+    def sender(self, publisher_id: bytes) -> str:
+        """liveliness token of the move sender whose moves carry ``publisher_id``"""
+        return f"{self.prefix}/{self.axis}/sender/{publisher_id.hex()}"
+
+    @property
+    def senders(self) -> str:
+        """key expression of every move sender's liveliness token"""
+        return f"{self.prefix}/{self.axis}/sender/*"
+
+
+def sender_of_token(key: str) -> bytes | None:
+    """The publisher id named by a sender token's key (the inverse of :meth:`AxisKeys.sender`)."""
+    try:
+        return bytes.fromhex(key.rsplit("/", 1)[-1])
+    except ValueError:
+        return None
 
 
 def all_keys(prefix: str = DEFAULT_PREFIX) -> str:

@@ -1,14 +1,22 @@
 """The drive's queue of moves: validation on arrival, one setpoint per 1 ms tick.
 
-A move (:class:`~axisflow.acquisition.messages.MoveCommand`) is accepted only if
+Validation happens in two steps, so that the costly one can run off the 1 kHz loop:
 
-* its law is known and its numbers are finite with duration > 0 s;
+:meth:`MoveQueue.validate` (stateless, thread-safe) accepts a move only if
+
+* its law is known and its numbers are finite with 0 s < duration ≤ :data:`MAX_MOVE_DURATION_S`;
 * both end positions lie in [0, L] (the polynomial laws do not overshoot their end points);
+* its velocity stays within v_max over the whole move (the law's analytic peak, c_v·|d|/T) and its
+  motor torque within tau_max at the 1 kHz execution samples and at :data:`CHECK_POINTS` evenly
+  spaced times (so a move shorter than a few ticks is checked along its course, not only at its two
+  ends, where it is at rest), with the nominal parameters.
+
+:meth:`MoveQueue.enqueue` (on the loop, cheap) then accepts it only if
+
 * it starts where the axis will be when it starts: |start_position_m − x_end| ≤ ``jump_tolerance_m``,
   with x_end the end position of the last queued move (or the held position) — no jumps;
-* its velocity and motor torque stay within v_max and tau_max at the 1 kHz execution samples
-  (:func:`axisflow.model.check_limits` with the nominal parameters);
-* its start (if not "append") is not before the end of the moves already queued.
+* its start (if not "append") is not before the end of the moves already queued;
+* fewer than :data:`MAX_QUEUED_MOVES` moves are queued.
 
 Rejections raise :class:`~axisflow.acquisition.errors.MoveRejectedError` with the reason.
 
@@ -16,8 +24,11 @@ Timing: tick k is the drive time ``t0 + k·1 ms``. An appended move starts at th
 previous one (whose sample is the previous end point at rest, equal to this move's start point), or at
 the current tick if the queue is empty: no idle tick between queued moves. A move spanning T seconds
 ends at tick ``start + ceil(T / 1 ms)``. With no move active the axis holds the last position.
-Moves are whole trajectories, so a move that was accepted always runs to its end even if its sender
-disappears; the axis then holds, at rest, within [0, L].
+
+Senders: every queued move remembers its sender (the publisher id of its attachment). When a sender
+disappears, :meth:`MoveQueue.drop_sender` removes its moves that have not started and every move
+queued after the first of them (they would start from where its moves end); a move already running
+ends, at rest, within the limits, and the axis holds there.
 """
 
 from __future__ import annotations
@@ -26,12 +37,23 @@ import math
 from collections import deque
 from dataclasses import dataclass
 
-from ..model import AxisflowError, AxisParams, Move, cart_force, check_limits, polynomial_law
+from ..model import (
+    AxisflowError,
+    AxisParams,
+    Move,
+    cart_force,
+    check_limits,
+    polynomial_law,
+)
 from .drive import DRIVE_PERIOD_NS, Setpoint
 from .errors import MoveRejectedError
 from .messages import MoveCommand
 
 DEFAULT_JUMP_TOLERANCE_M = 1e-4
+MAX_QUEUED_MOVES = 1024
+"""moves a drive holds at once (running included); more are rejected until some have run"""
+CHECK_POINTS = 1001
+"""evenly spaced times at which a move's torque is checked besides the 1 kHz samples"""
 _DT_S = DRIVE_PERIOD_NS * 1e-9
 
 
@@ -42,6 +64,8 @@ class QueuedMove:
     start_tick: int
     end_tick: int
     """first tick after the move's last in-motion sample: the move's end point at rest"""
+    sender: bytes = b""
+    """publisher id of the move's sender (its attachment), b"" when unknown"""
 
 
 class MoveQueue:
@@ -55,6 +79,8 @@ class MoveQueue:
         axis: str = "",
         jump_tolerance_m: float = DEFAULT_JUMP_TOLERANCE_M,
     ) -> None:
+        if not jump_tolerance_m >= 0.0:
+            raise MoveRejectedError(f"jump tolerance = {jump_tolerance_m} m must be >= 0 m")
         self.params = params
         self.axis = axis
         self.jump_tolerance_m = jump_tolerance_m
@@ -62,6 +88,8 @@ class MoveQueue:
         self._queue: deque[QueuedMove] = deque()
         self._hold_m = hold_position_m
         self.completed = 0
+        self.finished: list[QueuedMove] = []
+        """moves that ran to their end since the caller last cleared this list"""
 
     def __len__(self) -> int:
         return len(self._queue)
@@ -77,8 +105,9 @@ class MoveQueue:
     def tick_of(self, stamp_ns: int) -> int:
         return math.ceil((stamp_ns - self._start_ns) / DRIVE_PERIOD_NS)
 
-    def submit(self, cmd: MoveCommand, now_tick: int) -> QueuedMove:
-        """Validate ``cmd`` and queue it; raises :class:`MoveRejectedError` with the reason."""
+    def validate(self, cmd: MoveCommand) -> Move:
+        """The move of ``cmd`` if it is one this axis can run anywhere (see the module doc); raises
+        :class:`MoveRejectedError` with the reason. Depends on nothing queued: safe off the loop."""
         p = self.params
         tag = f"move {cmd.move_id}"
         if self.axis and cmd.axis and cmd.axis != self.axis:
@@ -91,21 +120,28 @@ class MoveQueue:
         for name, x in (("start_position_m", move.x0_m), ("end_position_m", move.x1_m)):
             if not 0.0 <= x <= p.L:
                 raise MoveRejectedError(f"{tag}: {name} = {x} m is outside the stroke [0, {p.L}] m")
+        if move.peak_velocity_m_s > p.v_max:
+            raise MoveRejectedError(
+                f"{tag}: peak velocity {move.peak_velocity_m_s:.6g} m/s exceeds v_max = {p.v_max} m/s"
+            )
+        report = check_limits(move, p, min_points=CHECK_POINTS)
+        if report.torque_violation > 0.0:
+            raise MoveRejectedError(
+                f"{tag}: peak motor torque {report.peak_torque_nm:.6g} N·m exceeds tau_max = {p.tau_max} N·m"
+            )
+        return move
+
+    def enqueue(self, cmd: MoveCommand, move: Move, now_tick: int, sender: bytes = b"") -> QueuedMove:
+        """Queue a validated move after the queued ones (jump, timing and capacity checks)."""
+        tag = f"move {cmd.move_id}"
+        if len(self._queue) >= MAX_QUEUED_MOVES:
+            raise MoveRejectedError(f"{tag}: the queue is full ({MAX_QUEUED_MOVES} moves)")
         x_end = self.end_position_m
         jump = abs(move.x0_m - x_end)
         if jump > self.jump_tolerance_m:
             raise MoveRejectedError(
                 f"{tag}: start_position_m = {move.x0_m} m jumps {jump:.6g} m from the axis's position "
                 f"{x_end} m at its start (tolerance {self.jump_tolerance_m} m)"
-            )
-        report = check_limits(move, p)
-        if report.velocity_violation > 0.0:
-            raise MoveRejectedError(
-                f"{tag}: peak velocity {report.peak_velocity_m_s:.6g} m/s exceeds v_max = {p.v_max} m/s"
-            )
-        if report.torque_violation > 0.0:
-            raise MoveRejectedError(
-                f"{tag}: peak motor torque {report.peak_torque_nm:.6g} N·m exceeds tau_max = {p.tau_max} N·m"
             )
         earliest = self.end_tick(now_tick)
         if cmd.appends:
@@ -119,9 +155,24 @@ class MoveQueue:
                     f"the end of the queued moves / the current drive time (use start 0 to append)"
                 )
         n_ticks = math.ceil(cmd.duration_s / _DT_S - 1e-9)
-        queued = QueuedMove(cmd, move, start_tick, start_tick + n_ticks)
+        queued = QueuedMove(cmd, move, start_tick, start_tick + n_ticks, sender)
         self._queue.append(queued)
         return queued
+
+    def submit(self, cmd: MoveCommand, now_tick: int, sender: bytes = b"") -> QueuedMove:
+        """Validate ``cmd`` and queue it; raises :class:`MoveRejectedError` with the reason."""
+        return self.enqueue(cmd, self.validate(cmd), now_tick, sender)
+
+    def drop_sender(self, sender: bytes, now_tick: int) -> list[QueuedMove]:
+        """Remove the moves of ``sender`` that have not started by ``now_tick`` and every move queued
+        after the first of them; returns the removed moves (a running move is kept)."""
+        for i, q in enumerate(self._queue):
+            if q.sender == sender and q.start_tick >= now_tick:
+                dropped = list(self._queue)[i:]
+                for _ in dropped:
+                    self._queue.pop()
+                return dropped
+        return []
 
     def setpoint(self, tick: int) -> Setpoint:
         """The setpoint of ``tick`` (non-decreasing ticks): the active move's sample, or hold."""
@@ -129,6 +180,7 @@ class MoveQueue:
             done = self._queue.popleft()
             self._hold_m = done.move.x1_m
             self.completed += 1
+            self.finished.append(done)
         if not self._queue or tick < self._queue[0].start_tick:
             return Setpoint(self._hold_m, 0.0, 0.0, 0.0)
         q = self._queue[0]

@@ -6,7 +6,12 @@
 
 Moves go out on ``<prefix>/<axis>/trajectory`` as ``axisflow_msgs/msg/Move`` with command priority and
 blocking congestion control, numbered so the bridge counts any that were lost. The bridge answers on
-``<prefix>/<axis>/event`` ("accepted move N…" / "rejected move N: reason").
+``<prefix>/<axis>/event`` ("accepted move N…" / "rejected move N: reason" / "completed move N").
+
+While the sender is open it holds the liveliness token ``<prefix>/<axis>/sender/<id>``. A bridge runs
+only moves whose sender is alive: when the sender closes (or its process dies), the bridge finishes the
+move that is running and drops the sender's moves that have not started. Keep the sender open until
+its moves have run.
 """
 
 from __future__ import annotations
@@ -27,6 +32,7 @@ class MoveSender:
         self.keys = keys
         self._session = session
         self._pub = SequencedPublisher(session, keys.trajectory, MOVE_TYPE, Traffic.COMMAND)
+        self._token = session.liveliness().declare_token(keys.sender(self._pub.gid))
         self._next_id = 1
 
     def wait_for_bridge(self, timeout_s: float) -> bool:
@@ -72,6 +78,7 @@ class MoveSender:
         return cmd
 
     def close(self) -> None:
+        self._token.undeclare()
         self._pub.undeclare()
 
     def __enter__(self) -> MoveSender:

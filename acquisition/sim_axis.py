@@ -7,9 +7,10 @@ friction off by 5–20 %, so identification has something to find, whatever the 
 complete ``[axis]`` table (absolute values, the keys of a parameter file). Per 1 ms tick:
 
 1. the drive measures: the pulley encoder is quantised to ``counts_per_rev`` counts per pulley
-   revolution (default 2^17: 2π·0.03 m/131072 = 1.438 µm of cart travel per count); the velocity is
-   the encoder difference over the tick through a first-order low-pass (``velocity_filter_hz``);
-   the motor torque is the applied torque plus white Gaussian noise (``noise_std_nm``, seeded);
+   revolution (default 2^17: 2π·0.04 m/131072 = 1.917 µm of cart travel per count with the default
+   r); the velocity is the encoder difference over the tick through a first-order low-pass
+   (``velocity_filter_hz``); the motor torque is the applied torque plus white Gaussian noise
+   (``noise_std_nm``, seeded);
 2. the controller computes the force command
    ``F = F_ff + Kp·(x_ref − x_meas) + Kd·(v_ref − v_meas)`` with ``Kp = M_eq·ω²``,
    ``Kd = 2ζω·M_eq`` (nominal M_eq, ω = 2π·bandwidth_hz) and the torque ``τ = F·r/i_r``, saturated
@@ -24,6 +25,7 @@ from __future__ import annotations
 
 import math
 import random
+import time
 from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
@@ -171,8 +173,10 @@ class SimulatedAxis:
     """A :class:`~axisflow.acquisition.drive.Drive` backed by the integrated plant (see module doc)."""
 
     def __init__(
-        self, plant: PlantConfig, nominal: AxisParams, start_stamp_ns: int, axis: str = "a0"
+        self, plant: PlantConfig, nominal: AxisParams, start_stamp_ns: int | None = None, axis: str = "a0"
     ) -> None:
+        """``start_stamp_ns``: the stamp of tick 0 [ns since the Unix epoch]; None: the next whole
+        millisecond of the wall clock when the first sample is read (the drive's clock starts then)."""
         self.axis = axis
         self.plant = plant
         self.nominal = nominal
@@ -203,6 +207,8 @@ class SimulatedAxis:
 
     @property
     def stamp_ns(self) -> int:
+        if self._start_ns is None:
+            self._start_ns = -(-time.time_ns() // DRIVE_PERIOD_NS) * DRIVE_PERIOD_NS
         return self._start_ns + self.tick * DRIVE_PERIOD_NS
 
     def read(self) -> AxisSample:

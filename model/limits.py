@@ -53,9 +53,18 @@ _CHUNK_SAMPLES = 1 << 16
 """samples evaluated at once, so that the check of a long move needs bounded memory"""
 
 
-def check_limits(move: Move, params: AxisParams, rate_hz: float = EXECUTION_RATE_HZ) -> LimitReport:
-    """Peaks and worst violation of velocity and motor torque at the execution samples."""
+def check_limits(
+    move: Move, params: AxisParams, rate_hz: float = EXECUTION_RATE_HZ, min_points: int = 0
+) -> LimitReport:
+    """Peaks and worst violation of velocity and motor torque at the execution samples.
+
+    ``min_points`` > 0 adds that many evenly spaced times over the move to the samples, so a move
+    spanning few (or no) execution periods is checked along its course, not only at its two ends
+    (where a rest-to-rest law is at rest).
+    """
     t_all = execution_times(move.duration_s, rate_hz)
+    if min_points > 0:
+        t_all = np.union1d(t_all, np.linspace(0.0, move.duration_s, min_points))
     v_peak = tau_peak = 0.0
     for start in range(0, t_all.size, _CHUNK_SAMPLES):
         s = move.sample(t_all[start : start + _CHUNK_SAMPLES])

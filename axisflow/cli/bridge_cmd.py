@@ -4,10 +4,8 @@ from __future__ import annotations
 
 import argparse
 import json
-import time
 
 from ..acquisition.bridge import BridgeConfig, run_bridge
-from ..acquisition.drive import DRIVE_PERIOD_NS
 from ..acquisition.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
 from ..acquisition.move_queue import DEFAULT_JUMP_TOLERANCE_M
 from ..acquisition.shutdown import stop_on_signals
@@ -68,8 +66,7 @@ def run(args: argparse.Namespace) -> int:
         jump_tolerance_m=args.jump_tolerance,
     )
     options = zenoh_options_from_args(args)
-    start_ns = -(-time.time_ns() // DRIVE_PERIOD_NS) * DRIVE_PERIOD_NS  # next whole millisecond
-    drive = SimulatedAxis(plant, params, start_ns, axis=args.axis)
+    drive = SimulatedAxis(plant, params, axis=args.axis)  # its clock starts at the first sample
     with stop_on_signals() as stop, open_session(options) as session:
         try:
             report = run_bridge(session, drive, params, config, stop)
@@ -82,6 +79,7 @@ def run(args: argparse.Namespace) -> int:
             "moves_accepted": report.moves_accepted,
             "moves_rejected": report.moves_rejected,
             "moves_completed": report.moves_completed,
+            "moves_dropped": report.moves_dropped,
             "moves_missed": report.moves_missed,
             "period_jitter": report.period_jitter.to_dict() if report.period_jitter else None,
             "rejections": report.rejections,

@@ -1,5 +1,6 @@
-"""Moves sent over Zenoh to a running bridge: queued back to back, bad ones rejected, the axis rests
-at the end even though the sender's session is gone (real sessions on tcp/127.0.0.1, in-process)."""
+"""Moves sent over Zenoh to a running bridge: queued back to back, bad ones rejected, the moves of a
+sender that disappears dropped while the running one ends at rest, moves of senders without a
+liveliness token refused (real sessions on tcp/127.0.0.1, in-process)."""
 
 import signal
 import threading
@@ -9,10 +10,12 @@ import numpy as np
 import pytest
 import zenoh
 from axisflow.acquisition import (
+    MOVE_TYPE,
     AxisKeys,
     AxisSample,
     BridgeConfig,
     BridgeEvent,
+    MoveCommand,
     MoveSender,
     SimulatedAxis,
     ZenohOptions,
@@ -20,6 +23,7 @@ from axisflow.acquisition import (
     open_session,
     run_bridge,
 )
+from axisflow.acquisition.publisher import SequencedPublisher, Traffic
 from axisflow.model import AxisParams
 
 PARAMS = AxisParams(
@@ -27,6 +31,7 @@ PARAMS = AxisParams(
     a1=100.0, a2=50.0, a3=20.0, a4=50.0, v_max=1.0, tau_max=3.0,
 )  # fmt: skip
 T0 = 1_700_000_000_000_000_000
+KEYS = AxisKeys("a0")
 
 
 def _drain(sub) -> list:
@@ -36,38 +41,71 @@ def _drain(sub) -> list:
     return out
 
 
+class _Bridge:
+    """A bridge on its own thread with an observer session subscribed to state, setpoint and event."""
+
+    def __init__(self, port: int, duration_s: float) -> None:
+        self.port = port
+        self.drive = SimulatedAxis(load_plant(None, PARAMS), PARAMS, T0, axis="a0")
+        self.config = BridgeConfig(keys=KEYS, speed=2.0, duration_s=duration_s, wait_subscribers_s=10.0)
+        self.report = None
+        self.texts: list[str] = []
+
+    def __enter__(self):
+        self._bridge_session = open_session(ZenohOptions.loopback(listen_port=self.port))
+        self._observer = open_session(ZenohOptions.loopback(connect_port=self.port))
+        self._state = self._observer.declare_subscriber(KEYS.state, zenoh.handlers.RingChannel(1))
+        self.setpoints = self._observer.declare_subscriber(KEYS.setpoint, zenoh.handlers.FifoChannel(20_000))
+        self.events = self._observer.declare_subscriber(KEYS.event, zenoh.handlers.FifoChannel(100))
+        self._thread = threading.Thread(target=self._run)
+        self._thread.start()
+        return self
+
+    def _run(self) -> None:
+        self.report = run_bridge(self._bridge_session, self.drive, PARAMS, self.config)
+
+    def wait_event(self, prefix: str, timeout_s: float = 20.0) -> str:
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            self.texts += [BridgeEvent.decode(s.payload.to_bytes()).text for s in _drain(self.events)]
+            hits = [t for t in self.texts if t.startswith(prefix)]
+            if hits:
+                return hits[0]
+            time.sleep(0.01)
+        pytest.fail(f"no event {prefix!r} within {timeout_s} s; events: {self.texts}")
+
+    def finish(self) -> list[AxisSample]:
+        self._thread.join(timeout=30)
+        assert not self._thread.is_alive()
+        self.texts += [BridgeEvent.decode(s.payload.to_bytes()).text for s in _drain(self.events)]
+        return [AxisSample.decode(s.payload.to_bytes()) for s in _drain(self.setpoints)]
+
+    def __exit__(self, *_exc):
+        for sub in (self._state, self.setpoints, self.events):
+            sub.undeclare()
+        self._observer.close()
+        self._thread.join(timeout=30)
+        self._bridge_session.close()
+
+
 def test_moves_queue_back_to_back_and_bad_ones_are_rejected(port):
-    keys = AxisKeys("a0")
-    drive = SimulatedAxis(load_plant(None, PARAMS), PARAMS, T0, axis="a0")
-    config = BridgeConfig(keys=keys, speed=2.0, duration_s=4.0, wait_subscribers_s=10.0)
-    report = {}
-    with (
-        open_session(ZenohOptions.loopback(listen_port=port)) as bridge_session,
-        open_session(ZenohOptions.loopback(connect_port=port)) as observer,
-        observer.declare_subscriber(keys.setpoint, zenoh.handlers.FifoChannel(10_000)) as setpoints,
-        observer.declare_subscriber(keys.event, zenoh.handlers.FifoChannel(100)) as events,
-    ):
-        thread = threading.Thread(
-            target=lambda: report.setdefault("r", run_bridge(bridge_session, drive, PARAMS, config))
-        )
-        thread.start()
-        # the planner: sends three moves, then its session disappears mid-move
+    with _Bridge(port, duration_s=4.0) as bridge:
         with (
             open_session(ZenohOptions.loopback(connect_port=port)) as planner,
-            MoveSender(planner, keys) as sender,
+            MoveSender(planner, KEYS) as sender,
         ):
             assert sender.wait_for_bridge(10.0)
             sender.send(0.0, 0.3, 0.7, law="poly5")
             sender.send(0.3, 0.1, 0.5, law="poly7")
             sender.send(0.5, 0.6, 0.5)  # jumps from 0.1 m: rejected
-        thread.join(timeout=30)
-        assert not thread.is_alive()
-        received = [AxisSample.decode(s.payload.to_bytes()) for s in _drain(setpoints)]
-        texts = [BridgeEvent.decode(s.payload.to_bytes()).text for s in _drain(events)]
-    r = report["r"]
-    assert (r.moves_accepted, r.moves_rejected, r.moves_missed) == (2, 1, 0)
-    assert any("rejected move 3: start_position_m = 0.5 m jumps 0.4 m" in t for t in texts)
-    assert sum(t.startswith("accepted") for t in texts) == 2
+            sender.send(0.1, 0.7, 0.0005)  # shorter than a tick: 2250 m/s at its peak, rejected
+            bridge.wait_event("completed move 2")  # the sender stays open while its moves run
+        received = bridge.finish()
+    r = bridge.report
+    assert (r.moves_accepted, r.moves_rejected, r.moves_missed, r.moves_dropped) == (2, 2, 0, 0)
+    assert any("rejected move 3: start_position_m = 0.5 m jumps 0.4 m" in t for t in bridge.texts)
+    assert any("rejected move 4: peak velocity 2250 m/s exceeds v_max = 1.0 m/s" in t for t in bridge.texts)
+    assert sum(t.startswith("accepted") for t in bridge.texts) == 2
     x = np.array([s.position_m for s in received])
     stamps = np.array([s.stamp_ns for s in received])
     assert set(np.diff(stamps).tolist()) == {1_000_000}
@@ -76,7 +114,45 @@ def test_moves_queue_back_to_back_and_bad_ones_are_rejected(port):
     assert end - start == 1200  # 700 ms + 500 ms with no idle tick in between
     assert x[start:end].max() == pytest.approx(0.3)
     assert x[-1] == pytest.approx(0.1)  # at rest at the end of the last accepted move
-    assert drive.position_m == pytest.approx(0.1, abs=5e-4)
+    assert bridge.drive.position_m == pytest.approx(0.1, abs=5e-4)
+
+
+def test_a_sender_that_disappears_mid_move_leaves_the_axis_at_rest_and_its_queue_dropped(port):
+    with _Bridge(port, duration_s=5.0) as bridge:
+        with (
+            open_session(ZenohOptions.loopback(connect_port=port)) as planner,
+            MoveSender(planner, KEYS) as sender,
+        ):
+            assert sender.wait_for_bridge(10.0)
+            sender.send(0.0, 0.6, 1.5, law="poly5")
+            sender.send(0.6, 0.2, 1.0, law="poly5")
+            bridge.wait_event("accepted move 2")
+            # the planner's session ends while move 1 runs (1.5 s of drive time = 0.75 s here)
+        received = bridge.finish()
+    r = bridge.report
+    assert (r.moves_accepted, r.moves_completed, r.moves_dropped) == (2, 1, 1)
+    assert any(t.startswith("dropped moves 2: their sender") for t in bridge.texts)
+    x = np.array([s.position_m for s in received])
+    v = np.array([s.velocity_m_s for s in received])
+    assert x.max() == pytest.approx(0.6)  # move 1 ran to its end ...
+    assert x[-1] == pytest.approx(0.6) and v[-1] == 0.0  # ... and the axis holds there, at rest
+    assert np.abs(v).max() <= PARAMS.v_max
+    assert bridge.drive.position_m == pytest.approx(0.6, abs=5e-4)
+
+
+def test_moves_of_a_publisher_without_a_sender_token_are_refused(port):
+    with _Bridge(port, duration_s=1.0) as bridge:
+        with open_session(ZenohOptions.loopback(connect_port=port)) as other:
+            pub = SequencedPublisher(other, KEYS.trajectory, MOVE_TYPE, Traffic.COMMAND)
+            deadline = time.monotonic() + 10.0
+            while not pub.has_subscribers and time.monotonic() < deadline:
+                time.sleep(0.01)
+            pub.put(MoveCommand(time.time_ns(), "a0", 7, 0, "poly5", 0.0, 0.1, 0.5).encode())
+            text = bridge.wait_event("rejected move 7")
+            pub.undeclare()
+        bridge.finish()
+    assert "its sender holds no liveliness token axisflow/a0/sender/*" in text
+    assert bridge.report.moves_accepted == 0
 
 
 def test_sender_finds_the_bridge_through_the_recorder_by_gossip(cli, tmp_path, port):

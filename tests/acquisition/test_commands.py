@@ -44,6 +44,7 @@ def test_bridge_with_default_zenoh_config_exits_even_when_7447_is_taken(cli):
         (["record", "-o", "x.txt"], "must end in .mcap"),
         (["record", "-o", "x.mcap", "--duration", "0"], "duration = 0.0 s must be > 0 s"),
         (["record", "-o", "x.mcap", "--keys", "a//b"], "--keys 'a//b' is not a valid Zenoh key expression"),
+        (["bridge", "--sim", "--jump-tolerance", "-1"], "jump tolerance = -1.0 m must be >= 0 m"),
         (["recover", "missing.mcap"], "recording missing.mcap does not exist"),
         (["replay", "missing.mcap"], "recording missing.mcap does not exist"),
         (
