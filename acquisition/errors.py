@@ -7,6 +7,8 @@ subclasses also derive from the matching builtin, so ``except ValueError`` / ``e
 
 from __future__ import annotations
 
+import re
+
 from ..model import AxisflowError
 
 
@@ -32,3 +34,9 @@ class ZenohConfigError(AcquisitionError, ValueError):
 
 class RecordingError(AcquisitionError, OSError):
     """An MCAP recording cannot be written, read or recovered."""
+
+
+def zenoh_reason(exc: BaseException) -> str:
+    """A Zenoh error as one line, without the Rust source location it ends with."""
+    text = re.sub(r"\s+at /\S+\.rs:\d+\.?\s*$", "", str(exc).strip())
+    return " ".join(part.strip(" |") for part in text.splitlines() if part.strip(" |"))

@@ -17,7 +17,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .errors import AcquisitionError
+import zenoh
+
+from .errors import AcquisitionError, zenoh_reason
 
 DEFAULT_PREFIX = "axisflow"
 DEFAULT_AXIS = "a0"
@@ -91,6 +93,16 @@ def all_keys(prefix: str = DEFAULT_PREFIX) -> str:
     """The key expression matching every key under ``prefix`` (``axisflow/**``)."""
     _check_chunk("key prefix", prefix, allow_slash=True)
     return f"{prefix}/**"
+
+
+def check_key_expression(expr: str, option: str = "--keys") -> zenoh.KeyExpr:
+    """``expr`` as a Zenoh key expression, or a :class:`KeyExprError` naming it."""
+    try:
+        return zenoh.KeyExpr(expr)
+    except zenoh.ZError as exc:
+        raise KeyExprError(
+            f"{option} {expr!r} is not a valid Zenoh key expression: {zenoh_reason(exc)}"
+        ) from None
 
 
 def topic_for_key(key: str) -> str:

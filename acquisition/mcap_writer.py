@@ -84,16 +84,17 @@ class Ros2McapWriter:
         self.channels[topic] = channel_id
         return channel_id
 
-    def channel_for(self, topic: str, type_name: str | None) -> int:
+    def channel_for(self, topic: str, type_name: str | None, message_encoding: str = "cdr") -> int:
         """The channel of ``topic``, registered with the ros2msg schema of ``type_name`` if known."""
         channel_id = self.channels.get(topic)
         if channel_id is None:
             schema_id = 0
+            metadata = {}
             if type_name in SCHEMAS:
                 schema_id = self.register_schema(type_name, "ros2msg", SCHEMAS[type_name].encode())
-            channel_id = self.register_channel(
-                topic, "cdr", schema_id, {"offered_qos_profiles": OFFERED_QOS_PROFILES}
-            )
+            if message_encoding == "cdr":
+                metadata = {"offered_qos_profiles": OFFERED_QOS_PROFILES}
+            channel_id = self.register_channel(topic, message_encoding, schema_id, metadata)
         return channel_id
 
     def add(

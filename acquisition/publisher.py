@@ -46,6 +46,21 @@ def type_of_encoding(encoding: zenoh.Encoding | str) -> str | None:
     return schema if head == "application/cdr" and schema in SCHEMAS else None
 
 
+_MCAP_ENCODINGS = {"application/cdr": "cdr", "application/json": "json", "application/protobuf": "protobuf"}
+
+
+def mcap_encoding_of(encoding: zenoh.Encoding | str) -> tuple[str, str | None]:
+    """(MCAP message encoding, ROS 2 type or None) for a Zenoh encoding.
+
+    ``application/cdr;<known type>`` → ("cdr", type); other CDR, JSON and protobuf payloads → the MCAP
+    well-known name with no schema; anything else keeps its Zenoh encoding as the message encoding
+    (e.g. ``zenoh/bytes``, ``text/plain``), so no reader mistakes it for CDR.
+    """
+    text = str(encoding)
+    head = text.partition(";")[0]
+    return _MCAP_ENCODINGS.get(head, head or "zenoh/bytes"), type_of_encoding(text)
+
+
 class SequencedPublisher:
     """Declares a publisher on ``key``; :meth:`put` adds the rmw_zenoh-style attachment."""
 

@@ -33,9 +33,9 @@ import zenoh
 from .attachment import unpack_attachment
 from .errors import RecordingError
 from .histogram import DurationHistogram, DurationStats
-from .keys import KeyExprError, all_keys, topic_for_key
+from .keys import all_keys, check_key_expression, topic_for_key
 from .mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE, Ros2McapWriter
-from .publisher import type_of_encoding
+from .publisher import mcap_encoding_of
 
 log = logging.getLogger(__name__)
 
@@ -89,13 +89,8 @@ class RecorderConfig:
                     + (f" (and {len(existing) - 1} more split files)" if len(existing) > 1 else "")
                     + ": choose another name or pass --overwrite"
                 )
-        try:  # before any file is opened: a bad expression must not leave an empty recording behind
-            zenoh.KeyExpr(self.keys)
-        except zenoh.ZError as exc:
-            reason = str(exc).split(" at /")[0]  # drop the Rust source location
-            raise KeyExprError(
-                f"--keys {self.keys!r} is not a valid Zenoh key expression: {reason}"
-            ) from None
+        # before any file is opened: a bad expression must not leave an empty recording behind
+        check_key_expression(self.keys)
 
 
 @dataclass
@@ -111,12 +106,15 @@ class TopicStats:
         return (self.last_log_ns - self.first_log_ns) * 1e-9
 
     @property
-    def rate_hz(self) -> float:
-        return (self.messages - 1) / self.duration_s if self.messages > 1 and self.duration_s > 0 else 0.0
+    def rate_hz(self) -> float | None:
+        """messages per second over the topic's span; None for a span under 1 s (a burst, not a rate)"""
+        return (self.messages - 1) / self.duration_s if self.duration_s >= 1.0 else None
 
 
 @dataclass
 class RecordSummary:
+    keys: str = ""
+    """the key expression recorded"""
     files: list[Path] = field(default_factory=list)
     topics: dict[str, TopicStats] = field(default_factory=dict)
     wall_time_s: float = 0.0
@@ -140,8 +138,12 @@ class RecordSummary:
             f"  {'topic':<40} {'messages':>9} {'duration s':>10} {'rate Hz':>9} {'missed':>7}",
         ]
         for t in sorted(self.topics.values(), key=lambda t: t.topic):
+            rate = "–" if t.rate_hz is None else f"{t.rate_hz:.1f}"
+            lines.append(f"  {t.topic:<40} {t.messages:>9} {t.duration_s:>10.3f} {rate:>9} {t.missed:>7}")
+        if not self.topics:
             lines.append(
-                f"  {t.topic:<40} {t.messages:>9} {t.duration_s:>10.3f} {t.rate_hz:>9.1f} {t.missed:>7}"
+                f"  no message matched {self.keys}: is a publisher running, and reachable with the "
+                "--connect/--listen endpoints given?"
             )
         if self.stale_stamps:
             lines.append(
@@ -183,7 +185,7 @@ class Recorder:
 
     def __init__(self, config: RecorderConfig) -> None:
         self.config = config
-        self.summary = RecordSummary()
+        self.summary = RecordSummary(keys=config.keys)
         self._split = config.split_bytes is not None or config.split_duration_s is not None
         self._file_index = 0
         self._writer: Ros2McapWriter | None = None
@@ -220,7 +222,8 @@ class Recorder:
         topic = topic_for_key(key)
         channel_id = writer.channels.get(topic)
         if channel_id is None:
-            channel_id = writer.channel_for(topic, type_of_encoding(sample.encoding))
+            message_encoding, type_name = mcap_encoding_of(sample.encoding)
+            channel_id = writer.channel_for(topic, type_name, message_encoding)
         stats = self.summary.topics.get(topic)
         if stats is None:
             stats = self.summary.topics[topic] = TopicStats(topic, first_log_ns=now)
@@ -250,6 +253,7 @@ class Recorder:
         deadline = None if c.duration_s is None else t0 + c.duration_s
         next_flush = t0 + c.flush_interval_s
         self._writer = self._open_next()
+        failure: OSError | None = None
         try:
             with session.declare_subscriber(c.keys, zenoh.handlers.FifoChannel(c.queue_capacity)) as sub:
                 self.ready.set()
@@ -275,8 +279,21 @@ class Recorder:
                         break
                     if sample is None:
                         time.sleep(_IDLE_SLEEP_S)
+        except RecordingError:
+            raise
+        except OSError as exc:  # a full disk, a file system gone read-only
+            failure = exc
         finally:
-            self._writer.finish()
+            try:
+                self._writer.finish()
+            except OSError as exc:
+                failure = failure or exc
             self.summary.wall_time_s = time.monotonic() - t0
             self.summary.latency = self._latency.stats()
+        if failure is not None:
+            path = self._writer.path
+            raise RecordingError(
+                f"writing {path} failed: {failure.strerror or failure}; what was flushed before is on disk "
+                f"(`axisflow recover {path}` rebuilds it into a complete file)"
+            )
         return self.summary

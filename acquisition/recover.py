@@ -8,6 +8,7 @@ file with chunk compression, summary and footer, which every tool opens.
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -39,19 +40,35 @@ def default_output(source: Path) -> Path:
     return source.with_name(f"{source.stem}.recovered{source.suffix}")
 
 
-def recover(source: str | Path, output: str | Path | None = None, compression: str = "zstd") -> RecoverReport:
-    """Rewrite ``source`` (possibly truncated) into a complete file ``output``."""
+def recover(
+    source: str | Path, output: str | Path | None = None, compression: str = "zstd", overwrite: bool = False
+) -> RecoverReport:
+    """Rewrite ``source`` (possibly truncated) into a complete file ``output``.
+
+    Refuses an ``output`` that is not ``.mcap``, is the source, or exists (unless ``overwrite``). When
+    the source holds no complete message, nothing is written and a :class:`RecordingError` says so.
+    """
     src = Path(source)
     dst = Path(output) if output is not None else default_output(src)
     check_mcap(src)  # before the output is created: nothing written for a missing or non-MCAP file
+    if dst.suffix != ".mcap":
+        raise RecordingError(f"output {dst} must end in .mcap")
     if dst.resolve() == src.resolve():
         raise RecordingError(f"output {dst} must differ from the source {src}")
+    if dst.exists() and not overwrite:
+        raise RecordingError(f"output {dst} already exists: choose another name or pass --overwrite")
     was_complete = is_complete(src)
+    records = iter_recording(src)
+    first_record = next(records, None)
+    if first_record is None:
+        raise RecordingError(
+            f"{src} holds no complete message to recover (its first chunk was never written)"
+        )
     writer = Ros2McapWriter(dst, compression)
     channel_ids: dict[int, int] = {}
     n, first, last = 0, 0, 0
     try:
-        for rec in iter_recording(src):
+        for rec in itertools.chain([first_record], records):
             ch = rec.channel
             out_channel = channel_ids.get(ch.id)
             if out_channel is None:

@@ -1,10 +1,14 @@
 """Replaying a recording over Zenoh at its recorded pace.
 
 Each message goes back out on key = its topic without the leading ``/``, with the recorded payload
-bytes and encoding ``application/cdr;<schema name>``, at ``first_publish + (log_time − first_log)/speed``
-(``speed`` 0: as fast as the consumers allow). The replay numbers its messages afresh per key
-(a recorder of the replay counts gaps as usual); the attachment's source stamp is the recorded
-``publish_time``.
+bytes and encoding ``application/cdr;<schema name>``. Its time is the recorded ``publish_time`` (the
+sender's stamp, which keeps the source's pace; the recorder's ``log_time`` where a message has none):
+it goes out at ``start + (t − t_first)/speed`` (``speed`` 0: as fast as the consumers allow). The
+replay numbers its messages afresh per key (a recorder of the replay counts gaps as usual); the
+attachment's source stamp is the recorded ``publish_time``.
+
+Only keys matching ``keys`` are replayed. Moves (``axisflow_msgs/msg/Move``, the commands sent to a
+drive) are never replayed: a recording must not command a live axis. They are counted as skipped.
 """
 
 from __future__ import annotations
@@ -17,7 +21,8 @@ from pathlib import Path
 import zenoh
 
 from .errors import AcquisitionError
-from .keys import key_for_topic
+from .keys import check_key_expression, key_for_topic
+from .messages import MOVE_TYPE
 from .publisher import SequencedPublisher, Traffic, wait_for_subscribers
 from .recording import iter_recording
 
@@ -28,12 +33,21 @@ class ReplayReport:
     topics: int
     wall_time_s: float
     recorded_span_s: float
+    skipped_moves: int = 0
+    """recorded moves (commands to a drive) that were not replayed"""
+    skipped_keys: int = 0
+    """messages on keys that do not match the replay's key expression"""
 
     def format(self) -> str:
-        return (
+        text = (
             f"replayed {self.messages} messages on {self.topics} keys: {self.recorded_span_s:.3f} s "
             f"of recording in {self.wall_time_s:.3f} s"
         )
+        if self.skipped_moves:
+            text += f"; skipped {self.skipped_moves} moves (commands to a drive are never replayed)"
+        if self.skipped_keys:
+            text += f"; skipped {self.skipped_keys} messages on keys outside --keys"
+        return text
 
 
 def replay(
@@ -42,44 +56,61 @@ def replay(
     speed: float = 1.0,
     stop: threading.Event | None = None,
     wait_subscribers_s: float = 0.0,
+    keys: str = "**",
 ) -> ReplayReport:
     """Publish the messages of ``path`` (complete or truncated) back over Zenoh."""
     if not speed >= 0.0:
         raise AcquisitionError(f"replay speed = {speed} must be >= 0 (0 = as fast as possible)")
+    if not wait_subscribers_s >= 0.0:
+        raise AcquisitionError(f"replay wait for subscribers = {wait_subscribers_s} s must be >= 0 s")
+    wanted = check_key_expression(keys)
     stop = stop or threading.Event()
     traffic = Traffic.BULK if speed == 0 else Traffic.TELEMETRY
     publishers: dict[str, SequencedPublisher] = {}
-    n = 0
-    first_log = last_log = 0
+    matches: dict[str, bool] = {}
+    n = skipped_moves = skipped_keys = 0
+    first_t = last_t = 0
     t0 = time.monotonic_ns()
-    waited = False
     try:
         for rec in iter_recording(path):
             if stop.is_set():
                 break
             topic = rec.channel.topic
+            type_name = rec.schema.name if rec.schema is not None else "unknown"
+            if type_name == MOVE_TYPE:
+                skipped_moves += 1
+                continue
+            key = key_for_topic(topic)
+            if topic not in matches:
+                matches[topic] = wanted.intersects(zenoh.KeyExpr(key))
+            if not matches[topic]:
+                skipped_keys += 1
+                continue
             pub = publishers.get(topic)
             if pub is None:
-                type_name = rec.schema.name if rec.schema is not None else "unknown"
-                pub = publishers[topic] = SequencedPublisher(
-                    session, key_for_topic(topic), type_name, traffic
-                )
+                pub = publishers[topic] = SequencedPublisher(session, key, type_name, traffic)
             m = rec.message
+            t = m.publish_time or m.log_time
             if n == 0:
-                first_log = m.log_time
-                if wait_subscribers_s > 0 and not waited:
+                first_t = t
+                if wait_subscribers_s > 0:
                     wait_for_subscribers([pub], wait_subscribers_s)
-                    waited = True
                 t0 = time.monotonic_ns()
             if speed > 0:
-                due = t0 + int((m.log_time - first_log) / speed)
-                delay = due - time.monotonic_ns()
-                if delay > 0:
-                    time.sleep(delay * 1e-9)
+                delay_ns = t0 + int((t - first_t) / speed) - time.monotonic_ns()
+                if delay_ns > 0 and stop.wait(delay_ns * 1e-9):
+                    break
             pub.put(m.data, m.publish_time)
-            last_log = max(last_log, m.log_time)
+            last_t = max(last_t, t)
             n += 1
     finally:
         for pub in publishers.values():
             pub.undeclare()
-    return ReplayReport(n, len(publishers), (time.monotonic_ns() - t0) * 1e-9, (last_log - first_log) * 1e-9)
+    return ReplayReport(
+        n,
+        len(publishers),
+        (time.monotonic_ns() - t0) * 1e-9,
+        (last_t - first_t) * 1e-9,
+        skipped_moves,
+        skipped_keys,
+    )

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import zenoh
 
-from .errors import ZenohConfigError
+from .errors import ZenohConfigError, zenoh_reason
 
 DEFAULT_ENDPOINT = "tcp/127.0.0.1:7447"
 LOOPBACK_ANY_PORT = "tcp/127.0.0.1:0"
@@ -63,7 +63,7 @@ def build_config(options: ZenohOptions) -> zenoh.Config:
         try:
             config = zenoh.Config.from_file(str(path))
         except zenoh.ZError as exc:
-            raise ZenohConfigError(f"zenoh config file {path} is invalid: {exc}") from None
+            raise ZenohConfigError(f"zenoh config file {path} is invalid: {zenoh_reason(exc)}") from None
     else:
         config = zenoh.Config()
         _insert(config, "mode", "peer")
@@ -90,7 +90,7 @@ def build_config(options: ZenohOptions) -> zenoh.Config:
         if options.listen:
             _insert(config, "listen/endpoints", list(options.listen))
     except zenoh.ZError as exc:
-        raise ZenohConfigError(f"invalid zenoh option: {exc}") from None
+        raise ZenohConfigError(f"invalid zenoh option: {zenoh_reason(exc)}") from None
     return config
 
 
@@ -100,4 +100,4 @@ def open_session(options: ZenohOptions) -> zenoh.Session:
     try:
         return zenoh.open(config)
     except zenoh.ZError as exc:
-        raise ZenohConfigError(f"cannot open a zenoh session ({options}): {exc}") from None
+        raise ZenohConfigError(f"cannot open a zenoh session ({options}): {zenoh_reason(exc)}") from None

@@ -16,9 +16,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("file", metavar="FILE.mcap", help="the recording, e.g. one whose recorder was killed")
     p.add_argument("-o", "--output", default=None, metavar="OUT.mcap", help="default: FILE.recovered.mcap")
+    p.add_argument("--overwrite", action="store_true", help="replace OUT.mcap if it exists")
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    print(recover(args.file, args.output).format())
+    print(recover(args.file, args.output, overwrite=args.overwrite).format())
     return 0

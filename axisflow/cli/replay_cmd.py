@@ -15,8 +15,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "replay",
         help="publish an MCAP recording back over Zenoh",
-        description="Publish every message of FILE on key = topic without the leading '/', at the "
-        "recorded pace (log times) divided by --speed.",
+        description="Publish the messages of FILE on key = topic without the leading '/', at the "
+        "recorded pace (the senders' publish times) times --speed. Moves (commands to a drive) are "
+        "never replayed.",
     )
     p.add_argument("file", metavar="FILE.mcap", help="recording (complete or truncated)")
     p.add_argument(
@@ -41,12 +42,18 @@ def register(sub: argparse._SubParsersAction) -> None:
         const=0.0,
         help="publish at once, without waiting for a subscriber",
     )
+    p.add_argument(
+        "--keys",
+        default="**",
+        metavar="EXPR",
+        help="replay only the keys matching this Zenoh key expression (default: all)",
+    )
     add_zenoh_options(p)
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     with stop_on_signals() as stop, open_session(zenoh_options_from_args(args)) as session:
-        report = replay(session, args.file, args.speed, stop, args.wait_subscribers)
+        report = replay(session, args.file, args.speed, stop, args.wait_subscribers, args.keys)
     print(report.format())
     return 0

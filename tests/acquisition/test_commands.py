@@ -107,3 +107,84 @@ def test_record_refuses_to_overwrite_unless_asked(cli, tmp_path, port, existing,
     )
     assert result.returncode == 0, result.stderr
     assert old.read_bytes() != b"precious"
+
+
+def _tiny_recording(path):
+    from axisflow.acquisition import AxisSample
+    from axisflow.acquisition.mcap_writer import Ros2McapWriter
+
+    writer = Ros2McapWriter(path)
+    channel = writer.channel_for("/axisflow/a0/state", "sensor_msgs/msg/JointState")
+    for k in range(3):
+        stamp = 1_700_000_000_000_000_000 + k * 1_000_000
+        writer.add(channel, stamp, stamp, k + 1, AxisSample(stamp, "a0", 0.1, 0, 0, 25, 0, 0).encode())
+    writer.finish()
+
+
+@pytest.mark.parametrize(
+    ("args", "match"),
+    [
+        (["replay", "{src}", "--wait-subscribers", "-3"], "wait for subscribers = -3.0 s must be >= 0 s"),
+        (["replay", "{src}", "--keys", "a//b"], "--keys 'a//b' is not a valid Zenoh key expression"),
+        (["recover", "{src}", "-o", "{dir}/out.txt"], "out.txt must end in .mcap"),
+        (["recover", "{src}", "-o", "{dir}/taken.mcap"], "taken.mcap already exists: choose another name"),
+    ],
+)
+def test_replay_and_recover_refuse_bad_options(cli, tmp_path, args, match):
+    src = tmp_path / "src.mcap"
+    _tiny_recording(src)
+    (tmp_path / "taken.mcap").write_bytes(b"precious")
+    before = sorted(p.name for p in tmp_path.iterdir())
+    result = cli.run(*[a.format(src=src, dir=tmp_path) for a in args], timeout=30)
+    assert result.returncode == 2, (result.stdout, result.stderr)
+    assert match in result.stderr
+    assert "Traceback" not in result.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == before
+    assert (tmp_path / "taken.mcap").read_bytes() == b"precious"
+
+
+def test_recover_overwrites_only_when_asked(cli, tmp_path):
+    src = tmp_path / "src.mcap"
+    _tiny_recording(src)
+    out = tmp_path / "taken.mcap"
+    out.write_bytes(b"old")
+    result = cli.run("recover", str(src), "-o", str(out), "--overwrite", timeout=30)
+    assert result.returncode == 0, result.stderr
+    assert "recovered 3 messages on 1 channels" in result.stdout
+
+
+def test_recover_of_a_file_with_no_complete_message_writes_nothing(cli, tmp_path):
+    src = tmp_path / "src.mcap"
+    _tiny_recording(src)
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(src.read_bytes()[:40])  # the magic and part of the header: no chunk
+    result = cli.run("recover", str(cut), timeout=30)
+    assert result.returncode == 2, (result.stdout, result.stderr)
+    assert "holds no complete message to recover" in result.stderr
+    assert not (tmp_path / "cut.recovered.mcap").exists()
+
+
+def test_a_bridge_waits_for_its_recorder_and_stamps_its_samples_when_it_starts(cli, tmp_path, port):
+    """--wait-subscribers really waits (the recorder starts 2 s after the bridge and still gets the
+    first sample), and the drive's clock starts with the loop (stamps close to the publish time)."""
+    import signal
+    import time
+
+    out = tmp_path / "late.mcap"
+    bridge = cli.start(
+        "bridge", "--sim", "--listen", f"tcp/127.0.0.1:{port}", "--duration", "1", "--wait-subscribers", "60"
+    )
+    time.sleep(2.0)
+    assert bridge.poll() is None  # still waiting
+    rec = cli.start(
+        "record", "-o", str(out), "--connect", f"tcp/127.0.0.1:{port}", "--keys", "axisflow/*/state"
+    )
+    _out, err = cli.finish(bridge, timeout=60)
+    assert bridge.returncode == 0, err
+    rec.send_signal(signal.SIGINT)
+    cli.finish(rec)
+    msgs = cli.decoded(out, "/axisflow/a0/state")
+    assert len(msgs) == 1000
+    assert msgs[0][0].sequence == 1
+    lag_ns = [m.publish_time - (d.header.stamp.sec * 10**9 + d.header.stamp.nanosec) for m, d in msgs]
+    assert max(lag_ns[:10]) < 50_000_000  # the first samples are stamped when they are taken

@@ -1,0 +1,76 @@
+"""The recorder in-process over real Zenoh sessions: payloads that are not ROS 2 CDR keep their own
+encoding, a failing disk is a RecordingError (not a traceback), an empty session says why."""
+
+import os
+import threading
+import time
+from pathlib import Path
+
+import pytest
+from axisflow.acquisition import Recorder, RecorderConfig, RecordingError, ZenohOptions, open_session
+from mcap.reader import make_reader
+
+
+def _record_while(port: int, config: RecorderConfig, publish) -> tuple[object, BaseException | None]:
+    """Run a recorder on its own thread, call ``publish(session)`` from a second session, stop it."""
+    stop = threading.Event()
+    recorder = Recorder(config)
+    out: dict[str, object] = {}
+
+    def run(session) -> None:
+        try:
+            out["summary"] = recorder.run(session, stop)
+        except BaseException as exc:  # re-raised in the test
+            out["error"] = exc
+
+    with (
+        open_session(ZenohOptions.loopback(listen_port=port)) as rec_session,
+        open_session(ZenohOptions.loopback(connect_port=port)) as pub_session,
+    ):
+        thread = threading.Thread(target=run, args=(rec_session,))
+        thread.start()
+        assert recorder.ready.wait(10.0)
+        time.sleep(0.3)  # the subscription reaches the other session
+        publish(pub_session)
+        time.sleep(0.3)
+        stop.set()
+        thread.join(timeout=30)
+    return out.get("summary"), out.get("error")
+
+
+def test_payloads_that_are_not_cdr_keep_their_encoding(tmp_path, port):
+    path = tmp_path / "mixed.mcap"
+
+    def publish(session) -> None:
+        session.put("axisflow/a0/note", "hello")
+        session.put("axisflow/a0/config", '{"a": 1}', encoding="application/json")
+
+    summary, error = _record_while(port, RecorderConfig(output=path), publish)
+    assert error is None
+    assert summary.messages == 2
+    with open(path, "rb") as fh:
+        channels = {c.topic: c for c in make_reader(fh).get_summary().channels.values()}
+    assert channels["/axisflow/a0/note"].message_encoding == "zenoh/bytes"
+    assert channels["/axisflow/a0/config"].message_encoding == "json"
+    assert all(c.schema_id == 0 for c in channels.values())
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full")
+def test_a_full_disk_is_a_recording_error_naming_the_file(tmp_path, port):
+    path = tmp_path / "full.mcap"
+    os.symlink("/dev/full", path)
+
+    def publish(session) -> None:
+        for k in range(100):
+            session.put(f"axisflow/a0/x{k % 3}", bytes(2000))
+
+    config = RecorderConfig(output=path, overwrite=True, flush_interval_s=0.05)
+    _summary, error = _record_while(port, config, publish)
+    assert isinstance(error, RecordingError)
+    assert f"writing {path} failed: No space left on device" in str(error)
+
+
+def test_an_empty_recording_says_that_nothing_matched(tmp_path, port):
+    summary, error = _record_while(port, RecorderConfig(output=tmp_path / "e.mcap"), lambda _s: None)
+    assert error is None
+    assert "no message matched axisflow/**: is a publisher running" in summary.format()
