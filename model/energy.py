@@ -24,6 +24,9 @@ from .params import AxisParams, EnergyAccounting
 
 _GL_NODES, _GL_WEIGHTS = np.polynomial.legendre.leggauss(32)
 _SCAN_POINTS = 513
+_END_SCAN = np.geomspace(1e-13, 1e-3, 21)
+_SCAN_U = np.unique(np.concatenate([np.linspace(0.0, 1.0, _SCAN_POINTS)[1:-1], _END_SCAN, 1.0 - _END_SCAN]))
+"""where P(u) is scanned for sign changes: evenly, plus geometrically towards both ends"""
 _PANELS_PER_PIECE = 4
 
 
@@ -63,16 +66,18 @@ def move_energy(move: Move, params: AxisParams, accounting: EnergyAccounting | N
     if move.distance_m == 0.0:
         return 0.0
     power = _power_of_u(move, params)
-    # sign changes of P(u) split [0, 1] into pieces where g is smooth
-    u = np.linspace(0.0, 1.0, _SCAN_POINTS)
+    # sign changes of P(u) split [0, 1] into pieces where g is smooth; the scan is dense next to the
+    # ends too, where a short braking lobe (poly3 ends with ẍ ≠ 0 while ẋ → 0) would hide between
+    # two evenly spaced samples. The end points themselves (ẋ = 0, P = 0) are left out; an interior
+    # sample exactly at zero is a cut itself.
+    u = _SCAN_U
     p = power(u)
-    # (the end points, where ẋ = 0, are left out; an interior sample exactly at zero is a cut itself)
-    cuts = [0.0]
     sign = np.sign(p)
-    for i in range(1, _SCAN_POINTS - 2):
+    cuts = [0.0]
+    for i in np.flatnonzero((sign[:-1] * sign[1:] < 0) | (sign[:-1] == 0.0)):
         if sign[i] == 0.0:
             cuts.append(float(u[i]))
-        elif sign[i] * sign[i + 1] < 0:
+        else:
             cuts.append(brentq(lambda x: float(power(np.array(x))), u[i], u[i + 1], xtol=1e-15))
     cuts.append(1.0)
     total = 0.0

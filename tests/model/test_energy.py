@@ -1,3 +1,4 @@
+import itertools
 import math
 
 import numpy as np
@@ -76,3 +77,26 @@ def test_positive_energy_lies_between_signed_and_absolute():
         move = Move(a, b, rng.uniform(0.2, 3.0), polynomial_law(str(rng.choice(LAWS))))
         es, ep, ea = (move_energy(move, p, acc) for acc in EnergyAccounting)
         assert es - 1e-9 <= ep <= ea + 1e-9
+
+
+def test_a_braking_lobe_shorter_than_the_scan_spacing_is_counted():
+    """poly3 ends with ẍ ≠ 0 while ẋ → 0: a slow move brakes only in its last ~1e-4 of the time,
+    between the last two evenly spaced scan points; its (tiny) negative power still counts."""
+    from scipy.integrate import quad
+
+    p = default_params()
+    move = Move(0.0, 0.6941531727931924, 2.4268217117951436, polynomial_law("poly3"))
+
+    def power(t):
+        s = move.sample(t)
+        return float(cart_force(s.velocity_m_s, s.acceleration_m_s2, p) * s.velocity_m_s)
+
+    edges = np.linspace(0.0, move.duration_s, 2001)
+    braking = sum(
+        quad(lambda t: max(-power(t), 0.0), a, b, epsabs=0.0, epsrel=1e-13, limit=200)[0]
+        for a, b in itertools.pairwise(edges)
+    )
+    assert 1e-6 < braking < 1e-5  # J: a lobe, but a real one
+    signed = move_energy(move, p, EnergyAccounting.SIGNED)
+    assert move_energy(move, p, EnergyAccounting.POSITIVE) == pytest.approx(signed + braking, rel=1e-12)
+    assert move_energy(move, p, EnergyAccounting.ABSOLUTE) == pytest.approx(signed + 2 * braking, rel=1e-12)
