@@ -59,10 +59,12 @@ def finish(
     solve_time_s: float,
     message: str = "",
     certificate: dict[str, float] | None = None,
+    energy_j: float | None = None,
 ) -> PlanResult:
-    """Score a duration with the precise energy integral and the 1 kHz limit check."""
+    """Score a duration with the precise energy integral (unless the back-end computed the energy
+    itself, ``energy_j``) and the 1 kHz limit check."""
     move = Move(problem.x0_m, problem.x1_m, duration_s, problem.law)
-    energy = move_energy(move, params)
+    energy = move_energy(move, params) if energy_j is None else energy_j
     return PlanResult(
         problem=problem,
         solver=solver,

@@ -13,8 +13,9 @@ answer is T* = max(T_min, T_v, T_τ), where T_τ solves max_u F(u, T) = F_max. T
 (s'(1−u) = s'(u), s''(1−u) = −s''(u)), so the braking peak is the driving peak minus twice the
 friction and never binds; T_τ is found by Newton's method on the pair (u, y = 1/T) of equations
 ∂F/∂u = 0, F = F_max (the analytic extremum; at u = 0 for poly3 when the peak sits on the boundary).
-The certificate is a bracket (t_lower_s, t_upper_s]: F(u*, t_lower_s) > F_max proves t_lower_s
-infeasible; t_upper_s meets every limit at the analytic extremum.
+The certificate is a bracket (t_lower_s, t_upper_s]: F(u*, t_lower_s) > F_max (or the velocity
+limit) proves t_lower_s infeasible; t_upper_s meets every limit at the analytic extremum. When the
+bound T_min decides, t_lower_s = t_upper_s = T_min (nothing shorter is allowed) and gap_s = 0.
 
 Case 2 (minimum ω·T + (1 − ω)·E). Signed energy is friction work (the kinetic energy is returned):
 
@@ -22,7 +23,11 @@ Case 2 (minimum ω·T + (1 − ω)·E). Signed energy is friction work (the kine
 
 which is convex in T, and dJ/dT = 0 ⇔ ψ(β) := β²·(a2·I2 + a3·a4·Φ'(a4·β)) = ω/(1 − ω), with ψ
 increasing: the unconstrained optimum is T = D/β*(law, ω), one cached scalar per ω. The constrained
-optimum is the projection of D/β* on [T_feas, T_max] and the gap is 0 (convexity).
+optimum is the projection of D/β* on [T_feas, T_max]. Certificate: at an interior optimum a bracket
+[t_lower_s, t_upper_s] with dJ/dT ≤ 0 ≤ dJ/dT at its ends and ``gap_j``, J(T) minus the crossing of
+the tangents there (a lower bound on min J, by convexity); at a bound or a limit, dJ/dT there has the
+sign that makes it the minimiser (gap 0), and a limit adds ``t_infeasible_s``, a duration proved to
+break it.
 
 The ``positive`` and ``absolute`` accountings add c·R(T) (c = 1, 2), R = D·∫ h⁺(u)·s'(u) du the
 braking (regenerable) energy, h = A·|s''| − φ(β·s') on the braking half, A = M·β²/D. As a function
@@ -32,7 +37,9 @@ J = J_s + (1 − ω)·c·R are convex in T. J is non-increasing on [T_feas, T_s]
 optimum), so the minimiser is T_s when dJ/dT(T_s) ≥ 0, and otherwise the root of dJ/dT in a bracket
 [a, b] found by safeguarded secant steps, dR/dT by differentiating under the integral. The steps start
 from a per-(law, axis, ω, accounting) table of the unconstrained optimum over log D (a Newton step
-with its tabulated slope, then probes aimed just past the root), typically 3 exact evaluations.
+with its tabulated slope, then probes aimed just past the root), typically 3 exact evaluations; the
+table is built by :meth:`ExactBackend.prepare` (20–60 ms), never inside a solve, so a solve has no
+hidden set-up cost (without it the secant starts at T_s: 5–9 evaluations).
 Certificate: by convexity min J ≥ the crossing of the tangents at a and b (exact evaluations only,
 never the table); ``gap_j`` is J(best) minus that bound.
 """
@@ -43,6 +50,7 @@ import bisect
 import itertools
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import lru_cache
 
@@ -52,12 +60,14 @@ from scipy.optimize import brentq
 
 from ..model import AxisParams, EnergyAccounting, PolynomialLaw
 from .errors import InfeasibleMoveError
-from .evaluation import finish
+from .evaluation import finish, objective
 from .problem import Case, MoveProblem
 from .result import PlanResult, SolveStatus
 
 _NEWTON_MAX = 60
 _GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
+_BEYOND_ANY_SPEED = 1e6
+"""β above this many v_max is no feasible speed ratio (the peak velocity c_v·β ≥ β exceeds v_max)"""
 _BRACKET_REL = 1e-11
 """relative width of the proved case-1 bracket"""
 
@@ -84,6 +94,10 @@ def _graded_half_nodes(per_panel: int = 12) -> tuple[np.ndarray, np.ndarray]:
 _GL16_X, _GL16_W = np.polynomial.legendre.leggauss(16)
 _GL16_X1 = _GL16_X + 1.0
 _POWERS = np.arange(16, dtype=float)
+_GRADED_EDGES = (0.0, 1e-5, 1e-4, 1e-3, 1e-2, 0.05, 0.2, 0.5, 1.0)
+_GRADED_X = np.concatenate([lo + 0.5 * (hi - lo) * _GL16_X1 for lo, hi in itertools.pairwise(_GRADED_EDGES)])
+_GRADED_W = np.concatenate([0.5 * (hi - lo) * _GL16_W for lo, hi in itertools.pairwise(_GRADED_EDGES)])
+"""16-point Gauss–Legendre on [0, 1], panels graded towards 0"""
 
 
 def _coefficient_columns(*polys: np.ndarray) -> np.ndarray:
@@ -124,7 +138,7 @@ class LawModel:
     s12: np.ndarray
     """(n, 2): s' and s'' coefficients, lowest power first (columns), for vectorised evaluation"""
     guess_tables: dict = field(default_factory=dict)
-    """(ω, c) → :func:`_braking_guess_table` (or None), and (ω, c, "solves") → solves without it"""
+    """(ω, c) → :func:`_braking_guess_table` (or None), built by :meth:`ExactBackend.prepare`"""
 
     @classmethod
     def build(cls, law: PolynomialLaw, params: AxisParams) -> LawModel:
@@ -332,6 +346,14 @@ class LawModel:
         b = D / T
         return -b * b * (self.a2 * self.I2 + self.a3 * self.a4 * self.phi_prime(self.a4 * b))
 
+    def energy(self, D: float, T: float, accounting: EnergyAccounting) -> float:
+        """E [J] of the move under ``accounting``: E_s + c·R (c = 0, 1, 2 for signed, positive,
+        absolute); the same quantity as :func:`axisflow.model.move_energy`, from this law's tables."""
+        e = self.signed_energy(D, T)
+        if accounting is EnergyAccounting.SIGNED:
+            return e
+        return e + (1.0 if accounting is EnergyAccounting.POSITIVE else 2.0) * self.braking_energy(D, T)
+
     def braking_energy(self, D: float, T: float) -> float:
         """R(T) [J]; see :meth:`braking_energy_and_slope`."""
         return self.braking_energy_and_slope(D, T)[0]
@@ -344,7 +366,8 @@ class LawModel:
         Mapped to u' = 1 − u ∈ [0, 1/2]: h = A·s''(u') − φ(β·s'(u')), A = M·β²/D, β = D/T. The
         interval where h > 0 is bracketed by the peak of h (Newton) and its roots (safeguarded
         Newton), then integrated by 16-point Gauss–Legendre, so the kink of h⁺ falls on the panel
-        edges. Since h vanishes at the ends of the interval, dR/dT = D·∫ ∂h/∂T·s' du with
+        edges (on panels graded towards the interval's start, next to the move's end). Since
+        h vanishes at the ends of the interval, dR/dT = D·∫ ∂h/∂T·s' du with
         ∂h/∂T = (−2A·s'' + φ'(β·s')·β·s')/T.
         ``hint`` (a list, updated in place) carries [lo, peak, hi] of the previous call with the same
         D, where the Newton iterations then start.
@@ -414,8 +437,9 @@ class LawModel:
         hi = root(u, 0.5, hint[2] if hint else -1.0)
         if hint is not None:
             hint[:] = [lo, u, hi]
-        half = 0.5 * (hi - lo)
-        x = lo + half * _GL16_X1
+        # panels graded towards lo: the end of the move (u' = 0), where atan(a4·β·s') turns sharply, is
+        # at or next to it
+        x, wq = lo + (hi - lo) * _GRADED_X, (hi - lo) * _GRADED_W
         s = np.power.outer(x, _POWERS[: self.s12.shape[0]]) @ self.s12  # s', s'' at the nodes
         s1, s2 = s[:, 0], s[:, 1]
         v = beta * s1
@@ -423,7 +447,7 @@ class LawModel:
         hv = A * s2 - a1 - a2 * v - a3 * np.arctan(z)
         np.maximum(hv, 0.0, out=hv)
         dh = (a2 + a3 * a4 / (1.0 + z * z)) * v - 2.0 * A * s2
-        w = (D * half) * (_GL16_W * s1)
+        w = D * wq * s1
         return float(w @ hv), float(w @ dh) / T
 
 
@@ -438,7 +462,10 @@ def optimal_speed_ratio(law: PolynomialLaw, params: AxisParams, omega: float) ->
     """β* [m/s]: the root of ψ(β) = β²·(a2·I2 + a3·a4·Φ'(a4·β)) = ω/(1 − ω) (ψ is increasing).
 
     The signed-energy time-energy optimum of a move of length D, ignoring limits and bounds, is
-    T = D/β*. ω = 1 gives β* = ∞ (minimum time), ω = 0 gives β* = 0 (the slowest move).
+    T = D/β*. ω = 1 gives β* = ∞ (minimum time), ω = 0 gives β* = 0 (the slowest move). Without
+    viscous friction (a2 = 0) ψ is bounded (by a3/a4·∫1 du as β → ∞): when ω/(1 − ω) lies above
+    ψ at a speed far beyond any the limits allow, J increases with T over every feasible duration and
+    β* = ∞ as well (the answer is the smallest feasible duration).
     """
     if omega >= 1.0:
         return math.inf
@@ -458,7 +485,10 @@ def optimal_speed_ratio(law: PolynomialLaw, params: AxisParams, omega: float) ->
         return b * b * (lm.a2 * lm.I2 + lm.a3 * lm.a4 * phi_prime(lm.a4 * b)) - target
 
     hi = 1.0
+    beyond = _BEYOND_ANY_SPEED * params.v_max
     while psi(hi) < 0.0:
+        if hi > beyond:
+            return math.inf
         hi *= 2.0
     return brentq(psi, 0.0, hi, xtol=1e-16, rtol=1e-15)
 
@@ -509,10 +539,13 @@ def solve_exact(problem: MoveProblem, params: AxisParams) -> ExactSolution:
     problem.check_stroke(params)
     D = abs(problem.x1_m - problem.x0_m)
     if D == 0.0:
-        return ExactSolution(problem.t_min_s, problem.w0 * problem.t_min_s, 0.0, "zero-length", {})
+        t = problem.t_min_s
+        return ExactSolution(t, objective(problem, t, 0.0), 0.0, "zero-length", {})
     lm = law_model(problem.law, params)
     if problem.case is Case.MIN_TIME:
         t_feas, t_below, active = min_feasible_duration(problem, params, lm)
+        if active == "t_min":  # nothing shorter is allowed: the bound itself is the proof
+            t_below = t_feas
         return ExactSolution(
             t_feas,
             problem.w0 * t_feas,
@@ -526,14 +559,20 @@ def solve_exact(problem: MoveProblem, params: AxisParams) -> ExactSolution:
     t_free = D / beta if beta > 0.0 else math.inf
     t_c = min(max(t_free, problem.t_min_s), problem.t_max_s)
     active = "optimum" if t_c == t_free else ("t_min" if t_c == problem.t_min_s else "t_max")
+    proof: dict[str, float] = {}
     if (
         problem.law.peak_velocity_factor * D <= params.v_max * t_c
         and lm.peak_force(1.0 / t_c, D, lm.u_acc_peak)[0] <= lm.f_max_n
     ):
         t_s = t_c
     else:
-        t_s, _, active = min_feasible_duration(problem, params, lm)
-    return _time_energy(problem, params, lm, D, t_s, active, beta)
+        t_s, t_below, active = min_feasible_duration(problem, params, lm)
+        if active in ("velocity", "torque"):
+            proof = {"t_infeasible_s": t_below}  # a limit decides: shorter durations are proved out
+    sol = _time_energy(problem, params, lm, D, t_s, active, beta)
+    if proof and sol.duration_s == t_s:
+        sol.certificate.update(proof)
+    return sol
 
 
 class _Slope:
@@ -640,10 +679,6 @@ _GUESS_NODES = 48
 """base nodes of the start table over [1e-3·L, L] (16 more over [1e-7·L, 1e-3·L))"""
 _GUESS_REFINE = 8
 """sub-intervals per base interval where the optimum has braking energy"""
-_GUESS_BUILD_AFTER = 16
-"""solves with braking energy at the optimum (same law, axis, ω, accounting) after which a solve
-builds the start table itself (20–60 ms); :meth:`ExactBackend.prepare` builds it at once. A one-off
-sweep over many ω (``axisflow pareto``) then does not pay for tables it would hardly use."""
 
 
 @lru_cache(maxsize=512)
@@ -736,6 +771,31 @@ def _guess(
     return t0, math.exp(log_s[k] + w * (log_s[k + 1] - log_s[k])) / t0
 
 
+def _tangent_lower_bound(a: float, b: float, ja: float, jb: float, ga: float, gb: float) -> float:
+    """A lower bound on min J over [a, b] for a convex J with slopes ga ≤ 0 ≤ gb at the ends: the
+    crossing of the tangents at a and b."""
+    if a == b:
+        return ja
+    if gb > ga:
+        t_x = (jb - ja + ga * a - gb * b) / (ga - gb)
+        return ja + ga * (t_x - a)
+    return min(ja, jb)
+
+
+def _bracket_certificate(
+    value_and_slope: Callable[[float], tuple[float, float]], t: float, j: float, slope: float
+) -> dict[str, float]:
+    """Certificate of an interior optimum T of a convex J (``value_and_slope(x)`` = (J, dJ/dT) at x):
+    durations a < T < b with dJ/dT(a) ≤ 0 ≤ dJ/dT(b), and the gap of J(T) to the tangent bound."""
+    for rel in (3e-11, 1e-9, 1e-7, 1e-5, 1e-4):
+        a, b = t * (1.0 - rel), t * (1.0 + rel)
+        (ja, ga), (jb, gb) = value_and_slope(a), value_and_slope(b)
+        if ga <= 0.0 <= gb:
+            lb = _tangent_lower_bound(a, b, ja, jb, ga, gb)
+            return {"gap_j": max(j - lb, 0.0), "t_lower_s": a, "t_upper_s": b, "dJ_dT": slope}
+    return {"gap_j": math.nan, "dJ_dT": slope}  # pragma: no cover - J flat to 1e-4·T: no proof
+
+
 def _time_energy(
     problem: MoveProblem,
     params: AxisParams,
@@ -751,13 +811,23 @@ def _time_energy(
     acc = params.energy_accounting
     if acc is EnergyAccounting.SIGNED:
         e = lm.signed_energy(D, t_s)
+        j = omega * t_s + (1 - omega) * e
         slope = omega + (1.0 - omega) * lm.signed_energy_slope(D, t_s)
-        return ExactSolution(t_s, omega * t_s + (1 - omega) * e, e, active, {"gap_j": 0.0, "dJ_dT": slope})
+        certificate = {"gap_j": 0.0, "dJ_dT": slope}
+        if active == "optimum":
+
+            def signed(x: float) -> tuple[float, float]:
+                e_x = lm.signed_energy(D, x)
+                return omega * x + (1 - omega) * e_x, omega + (1 - omega) * lm.signed_energy_slope(D, x)
+
+            certificate = _bracket_certificate(signed, t_s, j, slope)
+        # at a bound or a limit: dJ/dT has the sign that, by convexity, makes T_s the minimiser
+        return ExactSolution(t_s, j, e, active, certificate)
     c = 1.0 if acc is EnergyAccounting.POSITIVE else 2.0
     slope = _Slope(lm, D, omega, c)
     guess = None
     if 0.0 < beta < math.inf and t_s < t_max:
-        table = lm.guess_tables.get((omega, c))  # built by prepare(), or below once it pays off
+        table = lm.guess_tables.get((omega, c))  # built by ExactBackend.prepare(), never in a solve
         if table:
             guess = _guess(table, D, D / beta)
             if guess is not None and not (t_s < guess[0] < t_max and guess[1] > 0.0):
@@ -790,11 +860,11 @@ def _time_energy(
             # J is convex (see the module docstring) and non-increasing on [T_feas, T_s]; dJ/dT ≥ 0
             # at T_s (or R = 0 there, so J = J_s from T_s on) makes T_s the global minimiser
             e = lm.signed_energy(D, t_s) + c * r_s
-            return ExactSolution(t_s, slope.objective(t_s), e, active, {"gap_j": 0.0, "dJ_dT": g_s})
-        if guess is None and (omega, c) not in lm.guess_tables:
-            seen = lm.guess_tables[omega, c, "solves"] = lm.guess_tables.get((omega, c, "solves"), 0) + 1
-            if seen >= _GUESS_BUILD_AFTER:
-                lm.guess_tables[omega, c] = _braking_guess_table(problem.law, params, omega, c)
+            j = slope.objective(t_s)
+            certificate = {"gap_j": 0.0, "dJ_dT": g_s}
+            if active == "optimum":
+                certificate = _bracket_certificate(lambda x: (slope.objective(x), slope(x)[0]), t_s, j, g_s)
+            return ExactSolution(t_s, j, e, active, certificate)
         a, b, gx, is_open = _slope_root(slope, t_s, g_s, t_max, guess)
     if is_open:
         gb, rb = slope(t_max)
@@ -806,13 +876,7 @@ def _time_energy(
     gb, rb = slope(b)
     ja, jb = slope.objective(a), slope.objective(b)
     # convexity: J ≥ max of the tangents at a and b; their crossing bounds min J from below
-    if a == b:
-        lb = ja
-    elif gb > ga:
-        t_x = (jb - ja + ga * a - gb * b) / (ga - gb)
-        lb = ja + ga * (t_x - a)
-    else:
-        lb = min(ja, jb)
+    lb = _tangent_lower_bound(a, b, ja, jb, ga, gb)
     t_opt, j_opt, r_opt = (a, ja, ra) if ja <= jb else (b, jb, rb)
     e = lm.signed_energy(D, t_opt) + c * r_opt
     return ExactSolution(
@@ -847,6 +911,10 @@ class ExactBackend:
         t0 = time.perf_counter()
         sol = solve_exact(problem, params)
         elapsed = time.perf_counter() - t0
+        energy = sol.energy_j
+        if math.isnan(energy):  # minimum time: the energy of the answer, from the same law model
+            D = abs(problem.distance_m)
+            energy = law_model(problem.law, params).energy(D, sol.duration_s, params.energy_accounting)
         return finish(
             problem,
             params,
@@ -857,4 +925,5 @@ class ExactBackend:
             solve_time_s=elapsed,
             message=f"exact; active: {sol.active}",
             certificate=sol.certificate,
+            energy_j=energy,
         )

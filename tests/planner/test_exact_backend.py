@@ -229,3 +229,56 @@ def test_omega_limits(params):
     slow = solve_exact(MoveProblem(0.1, 0.6, "poly5", Case.MIN_TIME_ENERGY, omega=0.0), params)
     assert slow.duration_s == 20.0
     assert math.isfinite(slow.energy_j)
+
+
+@pytest.mark.parametrize("accounting", list(EnergyAccounting))
+def test_the_law_model_energy_is_the_model_energy(accounting):
+    """ExactBackend scores its results with the law model's energy: the same number as move_energy."""
+    from axisflow.planner.exact_backend import law_model
+
+    p = default_params().replace(energy_accounting=accounting)
+    rng = np.random.default_rng(11)
+    for law in LAWS:
+        lm = law_model(polynomial_law(law), p)
+        for _ in range(60):
+            D = float(10 ** rng.uniform(-6, math.log10(0.8)))
+            T = float(10 ** rng.uniform(-1.3, 1.3))
+            ref = move_energy(Move(0.0, D, T, polynomial_law(law)), p)
+            assert lm.energy(D, T, accounting) == pytest.approx(ref, rel=1e-9), (law, D, T)
+
+
+def test_without_viscous_friction_a_heavy_time_weight_means_the_fastest_feasible_move(params):
+    """a2 = 0 bounds ψ(β) by a3/a4: for ω/(1 − ω) above it, J (signed energy) rises with T
+    everywhere (β* = ∞)."""
+    p = params.replace(a2=0.0, energy_accounting="signed")
+    sol = solve_exact(MoveProblem(0.2, 0.6, "poly5", Case.MIN_TIME_ENERGY, omega=0.95), p)
+    fastest = solve_exact(MoveProblem(0.2, 0.6, "poly5", Case.MIN_TIME, t_min_s=0.3, t_max_s=20.0), p)
+    assert sol.duration_s == pytest.approx(fastest.duration_s, rel=1e-12)
+    assert sol.certificate["dJ_dT"] > 0.0 and sol.certificate["gap_j"] == 0.0
+    no_friction_but_coulomb = params.replace(a2=0.0, a3=0.0)
+    for omega in (0.1, 0.5, 0.9):
+        sol = solve_exact(
+            MoveProblem(0.2, 0.6, "poly7", Case.MIN_TIME_ENERGY, omega=omega), no_friction_but_coulomb
+        )
+        assert math.isfinite(sol.objective)
+
+
+def test_certificates_prove_what_they_claim(params):
+    poly = polynomial_law("poly5")
+    # minimum time decided by the lower bound: nothing shorter is allowed, the gap is zero
+    short = solve_exact(MoveProblem(0.2, 0.201, "poly5", Case.MIN_TIME), params)
+    assert short.active == "t_min"
+    assert short.certificate == {"t_lower_s": 0.1, "t_upper_s": 0.1, "gap_s": 0.0}
+    # time-energy decided by the torque limit: a proved-infeasible duration just below
+    tight = solve_exact(MoveProblem(0.0, 0.8, "poly5", Case.MIN_TIME_ENERGY, omega=0.999), params)
+    assert tight.active == "torque"
+    below = tight.certificate["t_infeasible_s"]
+    assert below < tight.duration_s and not dense_ok(0.0, 0.8, poly, below * (1 - 1e-8), params)
+    assert dense_ok(0.0, 0.8, poly, tight.duration_s, params)
+    # an interior optimum (signed energy): a bracket of the root of dJ/dT and a tiny gap
+    p = params.replace(energy_accounting="signed")
+    inner = solve_exact(MoveProblem(0.2, 0.6, "poly5", Case.MIN_TIME_ENERGY), p)
+    c = inner.certificate
+    assert inner.active == "optimum"
+    assert c["t_lower_s"] < inner.duration_s < c["t_upper_s"] <= c["t_lower_s"] * (1 + 1e-8)
+    assert 0.0 <= c["gap_j"] <= 1e-12 * inner.objective
