@@ -3,15 +3,19 @@
 In the frame where the move runs forward (v ≥ 0) the cart obeys M·v̇ = F − φ(v), with
 φ(v) = a1 + a2·v + a3·atan(a4·v) and the motor force bounded by |F| ≤ F_max = tau_max·i_r/r.
 
-**Time-optimal law (bang–cruise–bang).** Full driving force, then (if v_max is reached) a cruise at
-v_max with F = φ(v_max), then full braking force F = −F_max, during which friction helps:
+**Time-optimal law (bang–cruise–bang).** Full driving force, then (if the top speed is reached) a
+cruise at it with F = φ(v), then full braking force F = −F_max, during which friction helps. The top
+speed is v_max, or, on an axis whose friction at v_max exceeds F_max, the friction-limited speed
+v_f (φ(v_f) = F_max, approached but never reached at full force) less 1e-9 of it:
 
     accelerating to V:  t_a(V) = ∫₀ⱽ M/(F_max − φ(w)) dw,   x_a(V) = ∫₀ⱽ M·w/(F_max − φ(w)) dw
     braking from V:     t_b(V) = ∫₀ⱽ M/(F_max + φ(w)) dw,   x_b(V) = ∫₀ⱽ M·w/(F_max + φ(w)) dw
 
-The peak velocity V solves x_a(V) + x_b(V) = D (if that V ≤ v_max; otherwise V = v_max and the
-rest is cruise). Because friction opposes acceleration and helps braking, x_a > x_b: the switch is
-past mid-stroke. Pontryagin's principle gives this bang–bang structure for min T s.t. the limits.
+The peak velocity V solves x_a(V) + x_b(V) = D (if that V is below the top speed; otherwise V is the
+top speed and the rest is cruise). Near v_f the acceleration integrals have a pole; their panels
+are graded geometrically towards it. Because friction opposes acceleration and helps braking,
+x_a > x_b: the switch is past mid-stroke. Pontryagin's principle gives this bang–bang structure
+for min T s.t. the limits.
 
 **Least-energy profile at a given duration T.** Among profiles that accelerate at full force to a
 cruise speed V_c, cruise, coast (F = 0, friction decelerates: M·v̇ = −φ(v)) down to V_b and brake at
@@ -57,11 +61,17 @@ def _friction(params: AxisParams, v: np.ndarray | float) -> np.ndarray | float:
     return params.a1 + params.a2 * v + params.a3 * np.arctan(params.a4 * v)
 
 
-def _integral(f, lo: float, hi: float) -> float:  # noqa: ANN001 - f: ndarray -> ndarray
-    """∫_lo^hi f(w) dw on panels graded towards lo (where atan(a4·w) turns)."""
+def _integral(f, lo: float, hi: float, pole: float = math.inf) -> float:  # noqa: ANN001 - ndarray -> ndarray
+    """∫_lo^hi f(w) dw on panels graded towards lo (where atan(a4·w) turns) and, when f has a pole
+    just above hi (the friction-limited speed), geometrically towards hi as well."""
     if hi <= lo:
         return 0.0
     edges = lo + (hi - lo) * _EDGES
+    gap = pole - hi
+    if gap < hi - lo:  # panel k spans distances gap·10^k … gap·10^(k+1) to the pole
+        k = np.arange(0, int(math.log10((hi - lo) / gap)) + 1)
+        near = pole - gap * 10.0**k
+        edges = np.unique(np.concatenate([edges[edges < near[-1]], near[::-1]]))
     a, b = edges[:-1, None], edges[1:, None]
     x = 0.5 * (a + b) + 0.5 * (b - a) * _X
     return float(np.sum(0.5 * (b - a) * _W * f(x)))
@@ -75,8 +85,9 @@ class _Phases:
         """(t_a, x_a): time and distance to accelerate from rest to v at full force."""
         p = self.params
         f = p.f_max
-        t = _integral(lambda w: p.M_eq / (f - _friction(p, w)), 0.0, v)
-        x = _integral(lambda w: p.M_eq * w / (f - _friction(p, w)), 0.0, v)
+        pole = friction_limited_speed(p)
+        t = _integral(lambda w: p.M_eq / (f - _friction(p, w)), 0.0, v, pole)
+        x = _integral(lambda w: p.M_eq * w / (f - _friction(p, w)), 0.0, v, pole)
         return t, x
 
     def brake(self, v_hi: float, v_lo: float = 0.0) -> tuple[float, float]:
@@ -161,13 +172,35 @@ def _profile(
     )
 
 
-def _check_axis(params: AxisParams) -> None:
-    phi_vmax = float(_friction(params, params.v_max))
-    if phi_vmax >= params.f_max:
+@lru_cache(maxsize=64)
+def friction_limited_speed(params: AxisParams) -> float:
+    """The speed [m/s] at which friction takes the whole force limit, φ(v) = F_max (∞ if never):
+    full force accelerates the cart towards it, but never to it."""
+    f = params.f_max
+    if float(_friction(params, 0.0)) >= f:
+        return 0.0
+    if params.a2 == 0.0 and params.a1 + params.a3 * math.pi / 2 <= f:
+        return math.inf
+    hi = 1.0
+    while float(_friction(params, hi)) < f:
+        hi *= 2.0
+    return brentq(lambda v: float(_friction(params, v)) - f, 0.0, hi, xtol=1e-15, rtol=1e-15)
+
+
+_BELOW_FRICTION_LIMIT = 1e-9
+"""the top speed stays this fraction below the friction-limited speed (reached only asymptotically)"""
+
+
+def top_speed(params: AxisParams) -> float:
+    """The highest speed [m/s] a profile may cruise at: v_max, or just below the friction-limited
+    speed when friction at v_max exceeds the force limit."""
+    v_fric = friction_limited_speed(params)
+    if v_fric == 0.0:
         raise ReferenceLawError(
-            f"friction at v_max = {params.v_max} m/s is {phi_vmax:.6g} N, not below the force limit "
-            f"F_max = {params.f_max:.6g} N (tau_max = {params.tau_max} N·m): the axis cannot reach v_max"
+            f"the Coulomb friction a1 = {params.a1} N is not below the force limit "
+            f"F_max = {params.f_max:.6g} N (tau_max = {params.tau_max} N·m): the axis cannot move"
         )
+    return min(params.v_max, v_fric * (1.0 - _BELOW_FRICTION_LIMIT))
 
 
 def time_optimal(distance_m: float, params: AxisParams) -> ReferenceProfile:
@@ -182,7 +215,7 @@ def time_optimal(distance_m: float, params: AxisParams) -> ReferenceProfile:
 
 @lru_cache(maxsize=4096)
 def _time_optimal(D: float, params: AxisParams) -> ReferenceProfile:
-    _check_axis(params)
+    v_top = top_speed(params)
     ph = _Phases(params)
     if D == 0.0:
         return _profile("bang", params, 0.0, 0.0, 0.0, ph)  # type: ignore[return-value]
@@ -190,7 +223,7 @@ def _time_optimal(D: float, params: AxisParams) -> ReferenceProfile:
     def overshoot(v: float) -> float:
         return ph.accel(v)[1] + ph.brake(v)[1] - D
 
-    v = params.v_max if overshoot(params.v_max) <= 0.0 else brentq(overshoot, 0.0, params.v_max, xtol=1e-15)
+    v = v_top if overshoot(v_top) <= 0.0 else brentq(overshoot, 0.0, v_top, xtol=1e-15)
     prof = _profile("bang", params, D, v, v, ph)
     assert prof is not None  # v was chosen so that the ramps fit
     return prof
@@ -313,7 +346,7 @@ def plan_reference(
     if minimise_time or fastest.distance_m == 0.0:
         prof = least_energy(distance_m, t_lo, params)
         t = t_lo
-        obj = w0 * t
+        obj = w0 * t if minimise_time else omega * t + (1 - omega) * prof.energy(acc)
     else:
 
         def cost(t: float) -> float:

@@ -63,7 +63,7 @@ def _reference(args: argparse.Namespace, problem: MoveProblem) -> dict[str, Any]
         "iterations": 0,
         "solve_time_ms": plan.solve_time_s * 1e3,
         "max_violation": 0.0,
-        "message": f"{args.law} profile",
+        "message": f"{args.law} profile (a reference law: solved by its own method, not by --solver)",
         "certificate": {},
         "profile": {
             "cruise_velocity_m_s": prof.cruise_velocity_m_s,

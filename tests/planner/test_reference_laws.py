@@ -102,7 +102,32 @@ def test_plan_reference_and_errors(params):
         plan_reference("bang", 0.6, params, minimise_time=False)
     with pytest.raises(InfeasibleMoveError, match=r"no duration in \[0.1, 0.2\] s"):
         plan_reference("bang", 0.8, params, t_max_s=0.2)
-    with pytest.raises(ReferenceLawError, match="friction at v_max"):
+    with pytest.raises(ReferenceLawError, match=r"a1 = 72.0 N is not below the force limit F_max = 25 N"):
         time_optimal(0.5, params.replace(tau_max=0.1))
     with pytest.raises(MoveError, match="longer than the stroke"):
         time_optimal(0.9, params)
+
+
+@pytest.mark.parametrize("tau_max", [2.5, 1.0])
+def test_an_axis_that_cannot_reach_v_max_still_has_its_time_optimal_move(params, tau_max):
+    """Friction at v_max above the force limit: full force drives the cart towards the speed where
+    friction takes it all, never to it. The profile, integrated as an ODE, covers the stroke and stops."""
+    from scipy.integrate import solve_ivp
+
+    p = params.replace(tau_max=tau_max)
+    assert float(p.a1 + p.a2 * p.v_max + p.a3 * np.arctan(p.a4 * p.v_max)) > p.f_max
+    prof = time_optimal(0.8, p)
+    assert prof.cruise_velocity_m_s < p.v_max
+
+    def phi(v):
+        return p.a1 + p.a2 * v + p.a3 * np.arctan(p.a4 * v)
+
+    up = solve_ivp(lambda _t, y: [y[1], (p.f_max - phi(y[1])) / p.M_eq], [0, prof.accel_time_s], [0, 0],
+                   rtol=1e-12, atol=1e-14)  # fmt: skip
+    x, v = up.y[:, -1]
+    assert v == pytest.approx(prof.cruise_velocity_m_s, rel=1e-9)
+    x += v * prof.cruise_time_s
+    down = solve_ivp(lambda _t, y: [y[1], (-p.f_max - phi(y[1])) / p.M_eq], [0, prof.brake_time_s], [x, v],
+                     rtol=1e-12, atol=1e-14)  # fmt: skip
+    assert down.y[0, -1] == pytest.approx(0.8, abs=1e-9)
+    assert down.y[1, -1] == pytest.approx(0.0, abs=1e-9)
