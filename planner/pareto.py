@@ -24,7 +24,14 @@ from .exact_backend import solve_exact
 from .problem import Case, MoveProblem
 from .reference_laws import time_optimal
 
-DEFAULT_OMEGAS: tuple[float, ...] = tuple(float(w) for w in np.round(np.linspace(0.0, 1.0, 21), 10))
+DEFAULT_OMEGAS: tuple[float, ...] = tuple(
+    float(w)
+    for w in np.unique(
+        np.round(np.concatenate([np.linspace(0.0, 1.0, 21), [0.96, 0.97, 0.98, 0.985, 0.99, 0.995]]), 10)
+    )
+)
+"""ω from 0 to 1 in steps of 0.05, denser above 0.95, where the total time falls from minutes to the
+minimum-time total (the knee of the curve)"""
 
 
 @dataclass(frozen=True)

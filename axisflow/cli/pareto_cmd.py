@@ -100,7 +100,7 @@ def run(args: argparse.Namespace) -> int:
     for c in curves:
         print(f"{c.law}:")
         for pt in c.points:
-            print(f"  ω = {pt.omega:4.2f}   ΣT = {pt.total_time_s:9.2f} s   ΣE = {pt.total_energy_j:9.1f} J")
+            print(f"  ω = {pt.omega:5.3f}   ΣT = {pt.total_time_s:9.2f} s   ΣE = {pt.total_energy_j:9.1f} J")
     print(f"time-optimal limit: ΣT = {bang.total_time_s:.2f} s, ΣE = {bang.total_energy_j:.1f} J")
     print(f"wrote {out / 'pareto.json'} and {out / 'pareto.png'}")
     return 0
