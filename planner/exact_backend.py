@@ -809,17 +809,20 @@ def _time_energy(
     omega = problem.omega
     t_max = problem.t_max_s
     acc = params.energy_accounting
+
+    def signed(x: float) -> tuple[float, float]:
+        """(J_s, dJ_s/dT) at x: the objective with signed energy"""
+        return (
+            omega * x + (1 - omega) * lm.signed_energy(D, x),
+            omega + (1 - omega) * lm.signed_energy_slope(D, x),
+        )
+
     if acc is EnergyAccounting.SIGNED:
         e = lm.signed_energy(D, t_s)
         j = omega * t_s + (1 - omega) * e
         slope = omega + (1.0 - omega) * lm.signed_energy_slope(D, t_s)
         certificate = {"gap_j": 0.0, "dJ_dT": slope}
         if active == "optimum":
-
-            def signed(x: float) -> tuple[float, float]:
-                e_x = lm.signed_energy(D, x)
-                return omega * x + (1 - omega) * e_x, omega + (1 - omega) * lm.signed_energy_slope(D, x)
-
             certificate = _bracket_certificate(signed, t_s, j, slope)
         # at a bound or a limit: dJ/dT has the sign that, by convexity, makes T_s the minimiser
         return ExactSolution(t_s, j, e, active, certificate)
@@ -862,7 +865,11 @@ def _time_energy(
             e = lm.signed_energy(D, t_s) + c * r_s
             j = slope.objective(t_s)
             certificate = {"gap_j": 0.0, "dJ_dT": g_s}
-            if active == "optimum":
+            if active == "optimum" and r_s == 0.0:
+                # J = J_s + (1 − ω)·c·R ≥ J_s everywhere and J(T_s) = J_s(T_s): a bound on min J_s
+                # bounds min J, so the signed bracket (no braking evaluations) certifies T_s
+                certificate = _bracket_certificate(signed, t_s, j, g_s)
+            elif active == "optimum":
                 certificate = _bracket_certificate(lambda x: (slope.objective(x), slope(x)[0]), t_s, j, g_s)
             return ExactSolution(t_s, j, e, active, certificate)
         a, b, gx, is_open = _slope_root(slope, t_s, g_s, t_max, guess)
