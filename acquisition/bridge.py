@@ -29,6 +29,7 @@ import logging
 import threading
 import time
 from dataclasses import dataclass, field
+from functools import partial
 
 import zenoh
 
@@ -39,7 +40,7 @@ from .histogram import DurationHistogram, DurationStats
 from .keys import AxisKeys, sender_of_token
 from .messages import JOINT_STATE_TYPE, STRING_TYPE, BridgeEvent
 from .move_intake import MoveIntake
-from .move_queue import DEFAULT_JUMP_TOLERANCE_M, MoveQueue
+from .move_queue import DEFAULT_JUMP_TOLERANCE_M, MoveQueue, validate_move
 from .publisher import SequencedPublisher, Traffic, wait_for_subscribers
 
 log = logging.getLogger(__name__)
@@ -119,10 +120,8 @@ def run_bridge(
     telemetry = Traffic.BULK if config.speed == 0 else Traffic.TELEMETRY
     n_ticks = None if config.duration_s is None else round(config.duration_s * 1e9 / DRIVE_PERIOD_NS)
     jitter = DurationHistogram()
-    # validation needs only the parameters; the queue itself is made once the first sample is read
-    validator = MoveQueue(params, 0.0, 0, keys.axis, config.jump_tolerance_m)
     with (
-        MoveIntake(session, keys.trajectory, validator.validate) as intake,
+        MoveIntake(session, keys.trajectory, partial(validate_move, params=params, axis=keys.axis)) as intake,
         session.liveliness().declare_subscriber(
             keys.senders, zenoh.handlers.FifoChannel(256), history=True
         ) as sender_tokens,

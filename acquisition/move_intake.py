@@ -6,7 +6,7 @@ drive's loop. So a worker thread owns the subscriber (a Zenoh FIFO channel: no P
 Zenoh's threads, and only this thread touches the channel, from declaration to undeclaration), decodes
 each :class:`~axisflow.acquisition.messages.MoveCommand`, counts the sequence numbers its sender skipped
 and runs the stateless part of the validation
-(:meth:`~axisflow.acquisition.move_queue.MoveQueue.validate`); the loop collects the results with
+(:func:`~axisflow.acquisition.move_queue.validate_move`); the loop collects the results with
 :meth:`MoveIntake.poll` and queues them (cheap checks only).
 """
 

@@ -2,7 +2,7 @@
 
 Validation happens in two steps, so that the costly one can run off the 1 kHz loop:
 
-:meth:`MoveQueue.validate` (stateless, thread-safe) accepts a move only if
+:func:`validate_move` (stateless, thread-safe) accepts a move only if
 
 * its law is known and its numbers are finite with 0 s < duration ≤ :data:`MAX_MOVE_DURATION_S`;
 * both end positions lie in [0, L] (the polynomial laws do not overshoot their end points);
@@ -57,6 +57,33 @@ CHECK_POINTS = 1001
 _DT_S = DRIVE_PERIOD_NS * 1e-9
 
 
+def validate_move(cmd: MoveCommand, params: AxisParams, axis: str = "") -> Move:
+    """The move of ``cmd`` if it is one the axis can run anywhere (see the module doc); raises
+    :class:`MoveRejectedError` with the reason. Depends on nothing queued: safe off the loop."""
+    p = params
+    tag = f"move {cmd.move_id}"
+    if axis and cmd.axis and cmd.axis != axis:
+        raise MoveRejectedError(f"{tag}: addressed to axis {cmd.axis!r}, this drive is {axis!r}")
+    try:
+        law = polynomial_law(cmd.law)
+        move = Move(cmd.start_position_m, cmd.end_position_m, cmd.duration_s, law)
+    except AxisflowError as exc:
+        raise MoveRejectedError(f"{tag}: {exc}") from None
+    for name, x in (("start_position_m", move.x0_m), ("end_position_m", move.x1_m)):
+        if not 0.0 <= x <= p.L:
+            raise MoveRejectedError(f"{tag}: {name} = {x} m is outside the stroke [0, {p.L}] m")
+    if move.peak_velocity_m_s > p.v_max:
+        raise MoveRejectedError(
+            f"{tag}: peak velocity {move.peak_velocity_m_s:.6g} m/s exceeds v_max = {p.v_max} m/s"
+        )
+    report = check_limits(move, p, min_points=CHECK_POINTS)
+    if report.torque_violation > 0.0:
+        raise MoveRejectedError(
+            f"{tag}: peak motor torque {report.peak_torque_nm:.6g} N·m exceeds tau_max = {p.tau_max} N·m"
+        )
+    return move
+
+
 @dataclass(frozen=True)
 class QueuedMove:
     command: MoveCommand
@@ -106,30 +133,8 @@ class MoveQueue:
         return math.ceil((stamp_ns - self._start_ns) / DRIVE_PERIOD_NS)
 
     def validate(self, cmd: MoveCommand) -> Move:
-        """The move of ``cmd`` if it is one this axis can run anywhere (see the module doc); raises
-        :class:`MoveRejectedError` with the reason. Depends on nothing queued: safe off the loop."""
-        p = self.params
-        tag = f"move {cmd.move_id}"
-        if self.axis and cmd.axis and cmd.axis != self.axis:
-            raise MoveRejectedError(f"{tag}: addressed to axis {cmd.axis!r}, this drive is {self.axis!r}")
-        try:
-            law = polynomial_law(cmd.law)
-            move = Move(cmd.start_position_m, cmd.end_position_m, cmd.duration_s, law)
-        except AxisflowError as exc:
-            raise MoveRejectedError(f"{tag}: {exc}") from None
-        for name, x in (("start_position_m", move.x0_m), ("end_position_m", move.x1_m)):
-            if not 0.0 <= x <= p.L:
-                raise MoveRejectedError(f"{tag}: {name} = {x} m is outside the stroke [0, {p.L}] m")
-        if move.peak_velocity_m_s > p.v_max:
-            raise MoveRejectedError(
-                f"{tag}: peak velocity {move.peak_velocity_m_s:.6g} m/s exceeds v_max = {p.v_max} m/s"
-            )
-        report = check_limits(move, p, min_points=CHECK_POINTS)
-        if report.torque_violation > 0.0:
-            raise MoveRejectedError(
-                f"{tag}: peak motor torque {report.peak_torque_nm:.6g} N·m exceeds tau_max = {p.tau_max} N·m"
-            )
-        return move
+        """:func:`validate_move` with this queue's parameters and axis."""
+        return validate_move(cmd, self.params, self.axis)
 
     def enqueue(self, cmd: MoveCommand, move: Move, now_tick: int, sender: bytes = b"") -> QueuedMove:
         """Queue a validated move after the queued ones (jump, timing and capacity checks)."""
