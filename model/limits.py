@@ -8,6 +8,7 @@ max(|ẋ|/v_max − 1, |τ_m|/tau_max − 1, 0), so 0.01 means "1 % above a limi
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -49,8 +50,23 @@ def execution_times(duration_s: float, rate_hz: float = EXECUTION_RATE_HZ) -> np
     return t
 
 
-_CHUNK_SAMPLES = 1 << 16
-"""samples evaluated at once, so that the check of a long move needs bounded memory"""
+_CHUNK_SAMPLES = 1 << 13
+"""samples evaluated at once: the check of a long move needs bounded memory, and each numpy call is
+short (a validating thread hands the interpreter back to a 1 kHz loop quickly)"""
+
+
+def _sample_chunks(duration_s: float, rate_hz: float, min_points: int) -> Iterator[np.ndarray]:
+    """The check's sample times in chunks, never all at once: k/rate for k = 0…⌊T·rate⌋, T, and
+    ``min_points`` evenly spaced times (the order does not matter for peaks)."""
+    n = int(np.floor(duration_s * rate_hz + 1e-9)) + 1
+    for start in range(0, n, _CHUNK_SAMPLES):
+        yield np.arange(start, min(start + _CHUNK_SAMPLES, n)) / rate_hz
+    if (n - 1) / rate_hz < duration_s:
+        yield np.array([duration_s])
+    for start in range(0, min_points, _CHUNK_SAMPLES):
+        yield np.arange(start, min(start + _CHUNK_SAMPLES, min_points)) * (
+            duration_s / max(min_points - 1, 1)
+        )
 
 
 def check_limits(
@@ -62,19 +78,18 @@ def check_limits(
     spanning few (or no) execution periods is checked along its course, not only at its two ends
     (where a rest-to-rest law is at rest).
     """
-    t_all = execution_times(move.duration_s, rate_hz)
-    if min_points > 0:
-        t_all = np.union1d(t_all, np.linspace(0.0, move.duration_s, min_points))
     v_peak = tau_peak = 0.0
-    for start in range(0, t_all.size, _CHUNK_SAMPLES):
-        s = move.sample(t_all[start : start + _CHUNK_SAMPLES])
+    samples = 0
+    for t in _sample_chunks(move.duration_s, rate_hz, min_points):
+        s = move.sample(t)
         tau = motor_torque(cart_force(s.velocity_m_s, s.acceleration_m_s2, params), params)
         v_peak = max(v_peak, float(np.max(np.abs(s.velocity_m_s))))
         tau_peak = max(tau_peak, float(np.max(np.abs(tau))))
+        samples += t.size
     return LimitReport(
         peak_velocity_m_s=v_peak,
         peak_torque_nm=tau_peak,
         velocity_violation=max(v_peak / params.v_max - 1.0, 0.0),
         torque_violation=max(tau_peak / params.tau_max - 1.0, 0.0),
-        samples=int(t_all.size),
+        samples=samples,
     )
