@@ -8,9 +8,10 @@ bridge
 
 1. applies the senders that appeared or disappeared: a sender gone drops its moves that have not
    started (and those queued after them); the running move ends at rest;
-2. queues the moves validated since the last tick (:class:`~axisflow.acquisition.move_queue.MoveQueue`);
-   a move is accepted only from a live sender; each acceptance, rejection, completion and drop is
-   logged and published on ``<prefix>/<axis>/event``;
+2. queues the moves validated since the last tick (:class:`~axisflow.acquisition.move_queue.MoveQueue`),
+   in arrival order; a move is accepted only from a live sender (one whose token has not arrived yet
+   is held up to ``SENDER_GRACE_S``: the token and the move travel separately); each acceptance,
+   rejection, completion and drop is logged and published on ``<prefix>/<axis>/event``;
 3. reads the drive's sample and publishes it on ``state``;
 4. computes the setpoint of tick k, publishes it on ``setpoint`` and applies it to the drive.
 
@@ -28,6 +29,7 @@ from __future__ import annotations
 import logging
 import threading
 import time
+from collections import deque
 from dataclasses import dataclass, field
 from functools import partial
 
@@ -39,13 +41,14 @@ from .errors import AcquisitionError
 from .histogram import DurationHistogram, DurationStats
 from .keys import AxisKeys, sender_of_token
 from .messages import JOINT_STATE_TYPE, STRING_TYPE, BridgeEvent
-from .move_intake import MoveIntake
+from .move_intake import MoveIntake, ReceivedMove
 from .move_queue import DEFAULT_JUMP_TOLERANCE_M, MoveQueue, validate_move
 from .publisher import SequencedPublisher, Traffic, wait_for_subscribers
 
 log = logging.getLogger(__name__)
 
-TRAJECTORY_QUEUE_CAPACITY = 1024
+SENDER_GRACE_S = 0.5
+"""how long [s of wall time] a move may wait for its sender's liveliness token to arrive"""
 _SLEEP_MARGIN_NS = 80_000  # wake this early and spin the rest: time.sleep overshoots ~50–100 µs
 
 
@@ -137,6 +140,8 @@ def run_bridge(
         first = drive.read()
         queue = MoveQueue(params, first.position_m, first.stamp_ns, keys.axis, config.jump_tolerance_m)
         alive: set[bytes] = set()
+        gone: set[bytes] = set()
+        pending: deque[tuple[ReceivedMove, float]] = deque()
 
         def event(text: str) -> None:
             event_pub.put(BridgeEvent(text).encode())
@@ -170,28 +175,43 @@ def run_bridge(
                     continue
                 if token.kind == zenoh.SampleKind.PUT:
                     alive.add(gid)
+                    gone.discard(gid)
                     continue
                 alive.discard(gid)
+                gone.add(gid)
                 dropped = queue.drop_sender(gid, tick)
                 if dropped:
                     report.moves_dropped += len(dropped)
                     ids = ", ".join(str(q.command.move_id) for q in dropped)
-                    log.warning("sender %s disappeared: dropped moves %s", gid.hex(), ids)
-                    event(f"dropped moves {ids}: their sender {gid.hex()} disappeared")
+                    text = (
+                        f"dropped moves {ids}: sender {gid.hex()} disappeared (its moves that had not "
+                        "started, and every move queued after the first of them)"
+                    )
+                    log.warning("%s", text)
+                    event(text)
             for received in intake.poll():
-                cmd = received.command
                 if received.error:
                     reject(received.error)
-                    continue
+                else:
+                    pending.append((received, time.monotonic() + SENDER_GRACE_S))
+            # moves in arrival order; one whose sender's token has not arrived yet waits for it (the
+            # token and the move travel separately), at most SENDER_GRACE_S
+            while pending:
+                received, deadline = pending[0]
+                cmd, sender = received.command, received.sender
                 assert cmd is not None and received.move is not None
-                if received.sender not in alive:
+                if sender not in alive:
+                    if sender not in gone and time.monotonic() < deadline:
+                        break
+                    pending.popleft()
                     reject(
                         f"move {cmd.move_id}: its sender holds no liveliness token {keys.senders} "
                         "(send moves with MoveSender and keep it open while they run)"
                     )
                     continue
+                pending.popleft()
                 try:
-                    queued = queue.enqueue(cmd, received.move, tick, received.sender)
+                    queued = queue.enqueue(cmd, received.move, tick, sender)
                 except AcquisitionError as exc:
                     reject(str(exc))
                     continue
@@ -209,6 +229,9 @@ def run_bridge(
                 event(f"completed move {done.command.move_id} at tick {done.end_tick}")
             queue.finished.clear()
             tick += 1
+        for received, _deadline in pending:  # still waiting for a token when the bridge stops
+            assert received.command is not None
+            reject(f"move {received.command.move_id}: the bridge stopped before its sender's token arrived")
         report.ticks = tick
         report.wall_time_s = (time.monotonic_ns() - t_start) * 1e-9
         report.moves_completed = queue.completed

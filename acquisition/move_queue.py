@@ -173,10 +173,10 @@ class MoveQueue:
         after the first of them; returns the removed moves (a running move is kept)."""
         for i, q in enumerate(self._queue):
             if q.sender == sender and q.start_tick >= now_tick:
-                dropped = list(self._queue)[i:]
-                for _ in dropped:
-                    self._queue.pop()
-                return dropped
+                dropped = []
+                while len(self._queue) > i:
+                    dropped.append(self._queue.pop())
+                return dropped[::-1]
         return []
 
     def setpoint(self, tick: int) -> Setpoint:

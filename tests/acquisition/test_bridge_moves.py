@@ -131,7 +131,7 @@ def test_a_sender_that_disappears_mid_move_leaves_the_axis_at_rest_and_its_queue
         received = bridge.finish()
     r = bridge.report
     assert (r.moves_accepted, r.moves_completed, r.moves_dropped) == (2, 1, 1)
-    assert any(t.startswith("dropped moves 2: their sender") for t in bridge.texts)
+    assert any(t.startswith("dropped moves 2: sender ") and "disappeared" in t for t in bridge.texts)
     x = np.array([s.position_m for s in received])
     v = np.array([s.velocity_m_s for s in received])
     assert x.max() == pytest.approx(0.6)  # move 1 ran to its end ...
@@ -141,7 +141,7 @@ def test_a_sender_that_disappears_mid_move_leaves_the_axis_at_rest_and_its_queue
 
 
 def test_moves_of_a_publisher_without_a_sender_token_are_refused(port):
-    with _Bridge(port, duration_s=1.0) as bridge:
+    with _Bridge(port, duration_s=4.0) as bridge:
         with open_session(ZenohOptions.loopback(connect_port=port)) as other:
             pub = SequencedPublisher(other, KEYS.trajectory, MOVE_TYPE, Traffic.COMMAND)
             deadline = time.monotonic() + 10.0
