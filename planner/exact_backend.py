@@ -518,10 +518,13 @@ def min_feasible_duration(
     if t_min >= t_v and t_min >= t_tau:
         t, below, active = t_min, 0.0, "t_min"
     elif t_v >= t_tau:
-        t, below, active = t_v, math.nextafter(t_v, 0.0), "velocity"
-        t_rnd = problem.law.peak_velocity_factor * D / t
-        if t_rnd > params.v_max:  # rounding: step up until the peak velocity meets the limit
+        t, active = t_v, "velocity"
+        c_v = problem.law.peak_velocity_factor
+        while c_v * D / t > params.v_max:  # rounding: step up until the peak velocity meets the limit
             t = math.nextafter(t, math.inf)
+        below = math.nextafter(t, 0.0)
+        while c_v * D / below <= params.v_max:  # and down until it breaks it, as computed: the proof
+            below = math.nextafter(below, 0.0)
     else:
         t, below, active = t_tau, t_tau_low, "torque"
     if t > t_max:
