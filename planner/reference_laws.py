@@ -71,7 +71,7 @@ def _integral(f, lo: float, hi: float, pole: float = math.inf) -> float:  # noqa
     if gap < hi - lo:  # panel k spans distances gap·10^k … gap·10^(k+1) to the pole
         k = np.arange(0, int(math.log10((hi - lo) / gap)) + 1)
         near = pole - gap * 10.0**k
-        edges = np.unique(np.concatenate([edges[edges < near[-1]], near[::-1]]))
+        edges = np.unique(np.concatenate([edges, near[near > lo]]))  # graded at both ends
     a, b = edges[:-1, None], edges[1:, None]
     x = 0.5 * (a + b) + 0.5 * (b - a) * _X
     return float(np.sum(0.5 * (b - a) * _W * f(x)))
@@ -179,8 +179,8 @@ def friction_limited_speed(params: AxisParams) -> float:
     f = params.f_max
     if float(_friction(params, 0.0)) >= f:
         return 0.0
-    if params.a2 == 0.0 and params.a1 + params.a3 * math.pi / 2 <= f:
-        return math.inf
+    if params.a2 == 0.0 and params.a1 + (params.a3 * math.pi / 2 if params.a4 > 0.0 else 0.0) <= f:
+        return math.inf  # friction saturates below the force limit
     hi = 1.0
     while float(_friction(params, hi)) < f:
         hi *= 2.0

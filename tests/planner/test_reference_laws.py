@@ -1,5 +1,7 @@
 """Reference laws: closed forms without friction, an ODE simulation with it, and the polynomial laws."""
 
+import math
+
 import numpy as np
 import pytest
 from axisflow.model import EnergyAccounting, Move, MoveError, default_params, move_energy, polynomial_law
@@ -108,13 +110,13 @@ def test_plan_reference_and_errors(params):
         time_optimal(0.9, params)
 
 
-@pytest.mark.parametrize("tau_max", [2.5, 1.0])
-def test_an_axis_that_cannot_reach_v_max_still_has_its_time_optimal_move(params, tau_max):
+@pytest.mark.parametrize(("tau_max", "a4"), [(2.5, 12.8), (1.0, 12.8), (2.5, 100.0)])
+def test_an_axis_that_cannot_reach_v_max_still_has_its_time_optimal_move(params, tau_max, a4):
     """Friction at v_max above the force limit: full force drives the cart towards the speed where
     friction takes it all, never to it. The profile, integrated as an ODE, covers the stroke and stops."""
     from scipy.integrate import solve_ivp
 
-    p = params.replace(tau_max=tau_max)
+    p = params.replace(tau_max=tau_max, a4=a4)
     assert float(p.a1 + p.a2 * p.v_max + p.a3 * np.arctan(p.a4 * p.v_max)) > p.f_max
     prof = time_optimal(0.8, p)
     assert prof.cruise_velocity_m_s < p.v_max
@@ -126,8 +128,21 @@ def test_an_axis_that_cannot_reach_v_max_still_has_its_time_optimal_move(params,
                    rtol=1e-12, atol=1e-14)  # fmt: skip
     x, v = up.y[:, -1]
     assert v == pytest.approx(prof.cruise_velocity_m_s, rel=1e-9)
+    assert x == pytest.approx(prof.accel_distance_m, rel=1e-8)  # the distance of the pole's integral
     x += v * prof.cruise_time_s
     down = solve_ivp(lambda _t, y: [y[1], (-p.f_max - phi(y[1])) / p.M_eq], [0, prof.brake_time_s], [x, v],
                      rtol=1e-12, atol=1e-14)  # fmt: skip
     assert down.y[0, -1] == pytest.approx(0.8, abs=1e-9)
     assert down.y[1, -1] == pytest.approx(0.0, abs=1e-9)
+
+
+def test_without_viscous_and_low_speed_friction_the_top_speed_is_v_max(params):
+    """a2 = a4 = 0: friction is a1 at every speed; below F_max it never limits the speed."""
+    from axisflow.planner.reference_laws import friction_limited_speed, top_speed
+
+    p = params.replace(a2=0.0, a4=0.0, tau_max=0.5)  # F_max = 125 N > a1 = 72 N
+    assert friction_limited_speed(p) == math.inf
+    assert top_speed(p) == p.v_max
+    prof = time_optimal(0.8, p)  # constant friction: v² = 2·D / (M/(F − a1) + M/(F + a1))
+    expected = math.sqrt(2 * 0.8 / (p.M_eq / (p.f_max - p.a1) + p.M_eq / (p.f_max + p.a1)))
+    assert prof.cruise_velocity_m_s == pytest.approx(expected, rel=1e-9)
