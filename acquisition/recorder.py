@@ -198,7 +198,12 @@ class Recorder:
     def _open_next(self) -> Ros2McapWriter:
         path = split_path(self.config.output, self._file_index) if self._split else self.config.output
         self._file_index += 1
-        writer = Ros2McapWriter(path, self.config.compression, self.config.chunk_size)
+        try:
+            writer = Ros2McapWriter(path, self.config.compression, self.config.chunk_size)
+        except RecordingError:
+            raise
+        except OSError as exc:  # e.g. no room for the chunk-index spill file
+            raise RecordingError(f"cannot start {path}: {exc.strerror or exc}") from None
         self.summary.files.append(path)
         self._file_started = time.monotonic()
         return writer

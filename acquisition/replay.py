@@ -7,7 +7,8 @@ it goes out at ``start + (t − t_first)/speed`` (``speed`` 0: as fast as the co
 replay numbers its messages afresh per key (a recorder of the replay counts gaps as usual); the
 attachment's source stamp is the recorded ``publish_time``.
 
-Only keys matching ``keys`` are replayed. Moves (``axisflow_msgs/msg/Move``, the commands sent to a
+Only keys matching ``keys`` are replayed (a topic that is no valid Zenoh key, as other tools may
+write, is skipped). Moves (``axisflow_msgs/msg/Move``, the commands sent to a
 drive) are never replayed: a recording must not command a live axis. They are counted as skipped.
 """
 
@@ -46,7 +47,7 @@ class ReplayReport:
         if self.skipped_moves:
             text += f"; skipped {self.skipped_moves} moves (commands to a drive are never replayed)"
         if self.skipped_keys:
-            text += f"; skipped {self.skipped_keys} messages on keys outside --keys"
+            text += f"; skipped {self.skipped_keys} messages on keys outside --keys (or no Zenoh keys)"
         return text
 
 
@@ -82,7 +83,10 @@ def replay(
                 continue
             key = key_for_topic(topic)
             if topic not in matches:
-                matches[topic] = wanted.intersects(zenoh.KeyExpr(key))
+                try:
+                    matches[topic] = wanted.intersects(zenoh.KeyExpr(key))
+                except zenoh.ZError:  # a topic of another tool that is no Zenoh key (e.g. "/a//b")
+                    matches[topic] = False
             if not matches[topic]:
                 skipped_keys += 1
                 continue

@@ -86,3 +86,17 @@ def test_replay_as_fast_as_possible_waits_for_a_subscriber_first(recording, port
             got = _received(sub)
     assert report.messages == 400 and report.skipped_moves == 2
     assert len(got) == 400
+
+
+def test_a_topic_that_is_no_zenoh_key_is_skipped(tmp_path, port):
+    path = tmp_path / "other_tool.mcap"
+    writer = Ros2McapWriter(path)
+    odd = writer.channel_for("/weird//topic", JOINT_STATE_TYPE)
+    good = writer.channel_for("/axisflow/a0/state", JOINT_STATE_TYPE)
+    sample = AxisSample(T0, "a0", 0.1, 0.0, 0.0, 2.5, 0.0, 0.0).encode()
+    writer.add(odd, T0, T0, 1, sample)
+    writer.add(good, T0, T0, 1, sample)
+    writer.finish()
+    with open_session(ZenohOptions.loopback(listen_port=port)) as player:
+        report = replay(player, path, speed=0.0)
+    assert (report.messages, report.skipped_keys) == (1, 1)
