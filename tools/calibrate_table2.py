@@ -17,7 +17,7 @@ What it does (docs/parameters.md explains why):
 4. The packaged default is the fit rounded to plausible catalogue values; ``--check-only`` (and the
    end of a full run) prints the worst deviation of the twelve figures for seeds 0–5 with it.
 
-Runs in about a minute on the project's 2-core VM. Not part of the package: a maintainer's tool.
+Runs in a few minutes on the project's 2-core VM. Not part of the package: a maintainer's tool.
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ import sys
 from itertools import pairwise
 
 import numpy as np
-from axisflow.model import AxisParams, default_params
+from axisflow.model import AxisflowError, AxisParams, default_params
 from axisflow.planner import Case, MoveProblem, make_backend
 from scipy.optimize import least_squares
 
@@ -73,7 +73,7 @@ def fit(base: AxisParams, start: dict[str, float]) -> tuple[AxisParams, float]:
     def residuals(x: np.ndarray) -> np.ndarray:
         try:
             return np.log(totals(candidate(base, x)) / PAPER)
-        except Exception:  # an infeasible candidate (a move no duration can make): push it away
+        except AxisflowError:  # an infeasible candidate (a move no duration can make): push it away
             return np.full(PAPER.size, 10.0)
 
     x0 = np.log([start[k] for k in VARIED])
