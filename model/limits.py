@@ -43,11 +43,7 @@ class LimitReport:
 
 def execution_times(duration_s: float, rate_hz: float = EXECUTION_RATE_HZ) -> np.ndarray:
     """Sample times [s] of a move executed at ``rate_hz``: k/rate for k = 0…⌊T·rate⌋, and T."""
-    n = int(np.floor(duration_s * rate_hz + 1e-9))
-    t = np.arange(n + 1) / rate_hz
-    if t[-1] < duration_s:
-        t = np.append(t, duration_s)
-    return t
+    return np.concatenate(list(_sample_chunks(duration_s, rate_hz, 0)))
 
 
 _CHUNK_SAMPLES = 1 << 13
