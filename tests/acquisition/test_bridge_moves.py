@@ -5,6 +5,7 @@ liveliness token refused (real sessions on tcp/127.0.0.1, in-process)."""
 import signal
 import threading
 import time
+from contextlib import contextmanager
 
 import numpy as np
 import pytest
@@ -88,13 +89,20 @@ class _Bridge:
         self._bridge_session.close()
 
 
+@contextmanager
+def _live_sender(port: int):
+    """A planner's session and MoveSender that has found the bridge (closed on exit: the sender goes)."""
+    with (
+        open_session(ZenohOptions.loopback(connect_port=port)) as planner,
+        MoveSender(planner, KEYS) as sender,
+    ):
+        assert sender.wait_for_bridge(10.0)
+        yield sender
+
+
 def test_moves_queue_back_to_back_and_bad_ones_are_rejected(port):
     with _Bridge(port, duration_s=4.0) as bridge:
-        with (
-            open_session(ZenohOptions.loopback(connect_port=port)) as planner,
-            MoveSender(planner, KEYS) as sender,
-        ):
-            assert sender.wait_for_bridge(10.0)
+        with _live_sender(port) as sender:
             sender.send(0.0, 0.3, 0.7, law="poly5")
             sender.send(0.3, 0.1, 0.5, law="poly7")
             sender.send(0.5, 0.6, 0.5)  # jumps from 0.1 m: rejected
@@ -119,11 +127,7 @@ def test_moves_queue_back_to_back_and_bad_ones_are_rejected(port):
 
 def test_a_sender_that_disappears_mid_move_leaves_the_axis_at_rest_and_its_queue_dropped(port):
     with _Bridge(port, duration_s=5.0) as bridge:
-        with (
-            open_session(ZenohOptions.loopback(connect_port=port)) as planner,
-            MoveSender(planner, KEYS) as sender,
-        ):
-            assert sender.wait_for_bridge(10.0)
+        with _live_sender(port) as sender:
             sender.send(0.0, 0.6, 1.5, law="poly5")
             sender.send(0.6, 0.2, 1.0, law="poly5")
             bridge.wait_event("accepted move 2")
