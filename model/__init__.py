@@ -1,4 +1,5 @@
-"""The shared model of the axis: parameters, eq. (1) dynamics, motion laws, energy, limits.
+"""The shared model of the axis: parameters, eq. (1) dynamics, friction, motion laws, energy, limits,
+and the drive's 1 kHz sampling rule.
 
 This is the bottom layer of axisflow: it depends on numpy/scipy only, and everything else
 (acquisition, identification, planner, viz, the command line) imports it, never the reverse.
@@ -7,7 +8,6 @@ This is the bottom layer of axisflow: it depends on numpy/scipy only, and everyt
 from .dynamics import (
     cart_force,
     cart_force_from_torque,
-    friction_force,
     mechanical_power,
     motor_angle,
     motor_speed,
@@ -15,7 +15,16 @@ from .dynamics import (
 )
 from .energy import count_power, move_energy, trace_energy
 from .errors import AxisflowError, MoveError, ParameterError
-from .limits import EXECUTION_RATE_HZ, LimitReport, check_limits, execution_times
+from .friction import (
+    FRICTION_PARAMETERS,
+    forward_friction,
+    friction_curvature,
+    friction_expression,
+    friction_force,
+    friction_regressors,
+    friction_slope,
+)
+from .limits import LimitReport, check_limits, execution_times
 from .motion_laws import (
     MAX_MOVE_DURATION_S,
     POLYNOMIAL_LAWS,
@@ -25,9 +34,20 @@ from .motion_laws import (
     polynomial_law,
 )
 from .params import AxisParams, EnergyAccounting, default_params, load_params, params_to_toml
+from .sampling import (
+    EXECUTION_PERIOD_NS,
+    EXECUTION_PERIOD_S,
+    EXECUTION_RATE_HZ,
+    move_ticks,
+    sample_count,
+    ticks_to_seconds,
+)
 
 __all__ = [
+    "EXECUTION_PERIOD_NS",
+    "EXECUTION_PERIOD_S",
     "EXECUTION_RATE_HZ",
+    "FRICTION_PARAMETERS",
     "MAX_MOVE_DURATION_S",
     "POLYNOMIAL_LAWS",
     "AxisParams",
@@ -45,14 +65,22 @@ __all__ = [
     "count_power",
     "default_params",
     "execution_times",
+    "forward_friction",
+    "friction_curvature",
+    "friction_expression",
     "friction_force",
+    "friction_regressors",
+    "friction_slope",
     "load_params",
     "mechanical_power",
     "motor_angle",
     "motor_speed",
     "motor_torque",
     "move_energy",
+    "move_ticks",
     "params_to_toml",
     "polynomial_law",
+    "sample_count",
+    "ticks_to_seconds",
     "trace_energy",
 ]

@@ -3,23 +3,18 @@
     F = M_eq·ẍ + a1·sign(ẋ) + a2·ẋ + a3·atan(a4·ẋ),   M_eq = m + ((J_m + J_g)·i_r² + 2·J_p)/r²
     τ_m = F·r/i_r,    ω_m = ẋ·i_r/r,    P = F·ẋ = τ_m·ω_m
 
-F is the belt (traction) force on the cart [N]; belt elasticity is neglected. All functions take
-scalars or numpy arrays.
+F is the belt (traction) force on the cart [N]; belt elasticity is neglected; the friction term is
+:mod:`axisflow.model.friction`. All functions take scalars or numpy arrays.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from .friction import friction_force
 from .params import AxisParams
 
 ArrayLike = float | np.ndarray
-
-
-def friction_force(velocity_m_s: ArrayLike, params: AxisParams) -> np.ndarray:
-    """Friction force [N] at cart velocity ẋ: a1·sign(ẋ) + a2·ẋ + a3·atan(a4·ẋ)."""
-    v = np.asarray(velocity_m_s, dtype=float)
-    return params.a1 * np.sign(v) + params.a2 * v + params.a3 * np.arctan(params.a4 * v)
 
 
 def cart_force(velocity_m_s: ArrayLike, acceleration_m_s2: ArrayLike, params: AxisParams) -> np.ndarray:

@@ -1,9 +1,9 @@
 """Limit check of a move at the drive's execution samples.
 
-The drive executes a move at a fixed rate (1 kHz): the samples are t_k = k·Δt for k = 0 … ⌊T/Δt⌋,
-plus the end t = T. At each sample the cart velocity and the motor torque required by eq. (1) must
-stay within ±v_max and ±tau_max. The worst violation is reported relative to the limit:
-max(|ẋ|/v_max − 1, |τ_m|/tau_max − 1, 0), so 0.01 means "1 % above a limit".
+The drive executes a move at a fixed rate (1 kHz, :mod:`axisflow.model.sampling`): the samples are
+t_k = k·Δt for k = 0 … ⌊T/Δt⌋, plus the end t = T. At each sample the cart velocity and the motor
+torque required by eq. (1) must stay within ±v_max and ±tau_max. The worst violation is reported
+relative to the limit: max(|ẋ|/v_max − 1, |τ_m|/tau_max − 1, 0), so 0.01 means "1 % above a limit".
 """
 
 from __future__ import annotations
@@ -16,8 +16,7 @@ import numpy as np
 from .dynamics import cart_force, motor_torque
 from .motion_laws import Move
 from .params import AxisParams
-
-EXECUTION_RATE_HZ = 1000.0
+from .sampling import EXECUTION_RATE_HZ, sample_count
 
 
 @dataclass(frozen=True)
@@ -54,7 +53,7 @@ short (a validating thread hands the interpreter back to a 1 kHz loop quickly)""
 def _sample_chunks(duration_s: float, rate_hz: float, min_points: int) -> Iterator[np.ndarray]:
     """The check's sample times in chunks, never all at once: k/rate for k = 0…⌊T·rate⌋, T, and
     ``min_points`` evenly spaced times (the order does not matter for peaks)."""
-    n = int(np.floor(duration_s * rate_hz + 1e-9)) + 1
+    n = sample_count(duration_s, rate_hz)
     for start in range(0, n, _CHUNK_SAMPLES):
         yield np.arange(start, min(start + _CHUNK_SAMPLES, n)) / rate_hz
     if (n - 1) / rate_hz < duration_s:
