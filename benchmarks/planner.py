@@ -40,7 +40,7 @@ from axisflow.planner import Case, MoveProblem, make_backend
 from axisflow.planner.errors import InfeasibleMoveError
 from axisflow.planner.exact_backend import solve_exact
 
-from axisflow.cli.common import add_params_option, non_negative_int, params_from_args, positive_int
+from axisflow.arguments import add_params_option, non_negative_int, params_from_args, positive_int
 
 LAWS = ("poly3", "poly5", "poly7")
 REFERENCE_IPOPT = {"max_iter": 1000, "tol": 1e-10, "limit_margin": 0.0, "nodes": 2000}

@@ -11,7 +11,7 @@ from ..acquisition.move_queue import DEFAULT_JUMP_TOLERANCE_M
 from ..acquisition.shutdown import stop_on_signals
 from ..acquisition.sim_axis import SimulatedAxis, load_plant
 from ..acquisition.zenoh_config import open_session
-from .common import add_params_option, finite_float, params_from_args
+from ..arguments import add_params_option, finite_float, params_from_args
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 

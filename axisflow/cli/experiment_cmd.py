@@ -5,11 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 
-from ..experiment import run_offline, table_markdown
-from ..files import check_output_dir, ensure_dir, write_atomic
-from ..model import AxisflowError
-from ..planner import DEFAULT_OMEGA
-from .common import (
+from ..arguments import (
     add_params_option,
     add_solver_options,
     add_waypoint_options,
@@ -17,6 +13,10 @@ from .common import (
     finite_float,
     params_from_args,
 )
+from ..experiment import run_offline, table_markdown
+from ..files import check_output_dir, ensure_dir, write_atomic
+from ..model import AxisflowError
+from ..planner import DEFAULT_OMEGA
 
 
 def register(sub: argparse._SubParsersAction) -> None:

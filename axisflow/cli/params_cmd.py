@@ -5,8 +5,8 @@ from __future__ import annotations
 import argparse
 import json
 
+from ..arguments import add_params_option, params_from_args
 from ..model.units import PARAMETER_MEANINGS, PARAMETER_UNITS
-from .common import add_params_option, params_from_args
 
 
 def register(sub: argparse._SubParsersAction) -> None:

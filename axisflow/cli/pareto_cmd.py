@@ -7,11 +7,7 @@ import io
 import json
 from pathlib import Path
 
-from ..experiment import LAWS, draw_waypoints
-from ..files import check_output_dir, ensure_dir, write_atomic
-from ..model import MoveError
-from ..planner.pareto import DEFAULT_OMEGAS, check_omegas, sweep, time_optimal_point
-from .common import (
+from ..arguments import (
     add_params_option,
     add_solver_options,
     add_waypoint_options,
@@ -19,6 +15,10 @@ from .common import (
     finite_float,
     params_from_args,
 )
+from ..experiment import LAWS, draw_waypoints
+from ..files import check_output_dir, ensure_dir, write_atomic
+from ..model import MoveError
+from ..planner.pareto import DEFAULT_OMEGAS, check_omegas, sweep, time_optimal_point
 
 
 def register(sub: argparse._SubParsersAction) -> None:

@@ -6,9 +6,15 @@ import argparse
 import json
 from typing import Any
 
+from ..arguments import (
+    add_params_option,
+    add_solver_options,
+    backend_from_args,
+    finite_float,
+    params_from_args,
+)
 from ..planner import DEFAULT_OMEGA, Case, MoveProblem
 from ..planner.reference_laws import REFERENCE_LAWS, plan_reference
-from .common import add_params_option, add_solver_options, backend_from_args, finite_float, params_from_args
 
 POLY_LAWS = ("poly3", "poly5", "poly7")
 

@@ -11,7 +11,7 @@ from ..acquisition.mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE
 from ..acquisition.recorder import Recorder, RecorderConfig
 from ..acquisition.shutdown import stop_on_signals
 from ..acquisition.zenoh_config import open_session
-from .common import finite_float, positive_int
+from ..arguments import finite_float, positive_int
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 _SIZE_SUFFIXES = {"": 1, "k": 10**3, "m": 10**6, "g": 10**9}

@@ -7,7 +7,7 @@ import argparse
 from ..acquisition.replay import replay
 from ..acquisition.shutdown import stop_on_signals
 from ..acquisition.zenoh_config import open_session
-from .common import finite_float
+from ..arguments import finite_float
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 

@@ -1,11 +1,12 @@
-"""Options shared by several subcommands."""
+"""Command-line options and argument types shared by the commands (`axisflow.cli`) and the benchmarks
+(`axisflow.benchmarks`): a layer below both, so neither imports the other for them."""
 
 from __future__ import annotations
 
 import argparse
 import math
 
-from ..model import AxisParams, load_params
+from .model import AxisParams, load_params
 
 
 def add_params_option(parser: argparse.ArgumentParser) -> None:
@@ -66,7 +67,7 @@ def waypoint_count(text: str) -> int:
 def add_solver_options(parser: argparse.ArgumentParser, default: str = "exact") -> None:
     """``--solver exact|ipopt`` (default ``exact``, the online planner; the experiment passes
     ``ipopt`` to reproduce the paper) and IPOPT's ``--max-iter``."""
-    from ..planner import BACKENDS
+    from .planner import BACKENDS
 
     parser.add_argument(
         "--solver",
@@ -84,7 +85,7 @@ def add_solver_options(parser: argparse.ArgumentParser, default: str = "exact") 
 
 
 def backend_from_args(args: argparse.Namespace):  # noqa: ANN201 - PlannerBackend
-    from ..planner import make_backend
+    from .planner import make_backend
 
     if args.solver == "ipopt":
         return make_backend("ipopt", max_iter=args.max_iter)
@@ -93,7 +94,7 @@ def backend_from_args(args: argparse.Namespace):  # noqa: ANN201 - PlannerBacken
 
 def add_waypoint_options(parser: argparse.ArgumentParser) -> None:
     """--seed and --waypoints of the experiment's random way points (uniform in [0, L])."""
-    from ..paper import PAPER_WAYPOINTS
+    from .paper import PAPER_WAYPOINTS
 
     parser.add_argument("--seed", type=non_negative_int, default=0, help="way point seed (default 0)")
     parser.add_argument(
