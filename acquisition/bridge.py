@@ -1,27 +1,29 @@
 """The drive bridge: a 1 kHz loop between a :class:`~axisflow.acquisition.drive.Drive` and Zenoh.
 
-While it runs the bridge holds the liveliness token ``<prefix>/<axis>/alive`` so senders can find it,
+While it runs, the bridge holds the liveliness token ``<prefix>/<axis>/alive`` so senders can find it,
 and watches the move senders' tokens ``<prefix>/<axis>/sender/*``. Moves arriving on
 ``<prefix>/<axis>/trajectory`` are decoded and validated off the loop
-(:class:`~axisflow.acquisition.move_intake.MoveIntake`). Each tick k (drive time ``t0 + k·1 ms``) the
-bridge
+(:class:`~axisflow.acquisition.move_intake.MoveIntake`). Each tick k (drive time ``t0 + k·1 ms``),
+:meth:`Bridge.step`
 
 1. applies the senders that appeared or disappeared: a sender gone drops its moves that have not
    started (and those queued after them); the running move ends at rest;
 2. queues the moves validated since the last tick (:class:`~axisflow.acquisition.move_queue.MoveQueue`),
    in arrival order; a move is accepted only from a live sender (one whose token has not arrived yet
-   is held up to ``SENDER_GRACE_S``: the token and the move travel separately); each acceptance,
-   rejection, completion and drop is logged and published on ``<prefix>/<axis>/event``;
+   is held up to :data:`SENDER_GRACE_S`: the token and the move travel separately);
 3. reads the drive's sample and publishes it on ``state``;
 4. computes the setpoint of tick k, publishes it on ``setpoint`` and applies it to the drive.
 
-Pacing: at ``speed`` > 0 tick k starts at ``start + k·1 ms / speed`` on the monotonic clock (a late
-tick runs at once; the schedule does not drift); at ``speed`` 0 ticks run back to back and telemetry
-publishers block when the consumers are full ("as fast as the consumers allow"). The stamps are drive
-time and always advance by exactly 1 ms; the first sample is read once the publishers are ready (and
-the subscribers waited for), so a simulated drive's clock starts with the loop. The periods between
-tick starts are kept in a histogram; their deviation from the nominal period is the jitter reported
-on exit.
+Every step of a move's life (accepted, rejected with the reason, started, completed, dropped) is a
+typed :class:`~axisflow.acquisition.move_status.MoveStatus` on ``<prefix>/<axis>/event``.
+
+:meth:`Bridge.run` paces the steps: at ``speed`` > 0 tick k starts at ``start + k·1 ms / speed`` on
+the monotonic clock (a late tick runs at once; the schedule does not drift); at ``speed`` 0 ticks run
+back to back and telemetry publishers block when the consumers are full ("as fast as the consumers
+allow"). The stamps are drive time and always advance by exactly 1 ms; the first sample is read once
+the publishers are ready (and the subscribers waited for), so a simulated drive's clock starts with
+the loop. The periods between tick starts are kept in a histogram; their deviation from the nominal
+period is the jitter reported on exit. Tests drive :meth:`Bridge.step` directly.
 """
 
 from __future__ import annotations
@@ -30,19 +32,21 @@ import logging
 import threading
 import time
 from collections import deque
+from contextlib import ExitStack
 from dataclasses import dataclass, field
 from functools import partial
 
 import zenoh
 
-from ..model import AxisParams
-from .drive import DRIVE_PERIOD_NS, Drive
+from ..model import EXECUTION_PERIOD_NS, AxisParams, ticks_to_seconds
+from .drive import Drive
 from .errors import AcquisitionError
 from .histogram import DurationHistogram, DurationStats
 from .keys import AxisKeys, sender_of_token
-from .messages import JOINT_STATE_TYPE, STRING_TYPE, BridgeEvent
+from .messages import JOINT_STATE_TYPE
 from .move_intake import MoveIntake, ReceivedMove
-from .move_queue import DEFAULT_JUMP_TOLERANCE_M, MoveQueue, validate_move
+from .move_queue import DEFAULT_JUMP_TOLERANCE_M, MoveQueue, QueuedMove, validate_move
+from .move_status import MOVE_STATUS_TYPE, NO_TICK, MoveState, MoveStatus
 from .publisher import SequencedPublisher, Traffic, wait_for_subscribers
 
 log = logging.getLogger(__name__)
@@ -75,6 +79,11 @@ class BridgeConfig:
                 f"bridge wait for subscribers = {self.wait_subscribers_s} s must be >= 0 s"
             )
 
+    @property
+    def ticks(self) -> int | None:
+        """Ticks to run (None: until stopped)."""
+        return None if self.duration_s is None else round(self.duration_s * 1e9 / EXECUTION_PERIOD_NS)
+
 
 @dataclass
 class BridgeReport:
@@ -95,7 +104,7 @@ class BridgeReport:
 
     def summary(self) -> str:
         lines = [
-            f"bridge: {self.ticks} ticks ({self.ticks / 1000:.3f} s of drive time) "
+            f"bridge: {self.ticks} ticks ({ticks_to_seconds(self.ticks):.3f} s of drive time) "
             f"in {self.wall_time_s:.3f} s",
             f"  moves: {self.moves_accepted} accepted, {self.moves_completed} completed, "
             f"{self.moves_rejected} rejected, {self.moves_dropped} dropped, {self.moves_missed} missed",
@@ -108,6 +117,221 @@ class BridgeReport:
             )
         return "\n".join(lines)
 
+    def to_dict(self) -> dict[str, object]:
+        return {
+            "ticks": self.ticks,
+            "wall_time_s": self.wall_time_s,
+            "moves_accepted": self.moves_accepted,
+            "moves_rejected": self.moves_rejected,
+            "moves_completed": self.moves_completed,
+            "moves_dropped": self.moves_dropped,
+            "moves_missed": self.moves_missed,
+            "period_jitter": self.period_jitter.to_dict() if self.period_jitter else None,
+            "rejections": self.rejections,
+        }
+
+
+class Bridge:
+    """The bridge of one axis (a context manager: entering declares everything on the session and
+    reads the first sample; leaving rejects the moves still waiting and undeclares)."""
+
+    def __init__(
+        self, session: zenoh.Session, drive: Drive, params: AxisParams, config: BridgeConfig
+    ) -> None:
+        self.session = session
+        self.drive = drive
+        self.params = params
+        self.config = config
+        self.keys = config.keys
+        self.report = BridgeReport()
+        self.tick = 0
+        """the next tick to run"""
+        self._stack = ExitStack()
+        self._alive: set[bytes] = set()
+        self._gone: set[bytes] = set()
+        self._pending: deque[tuple[ReceivedMove, float]] = deque()
+        self._queue: MoveQueue | None = None
+
+    # ---- set-up and tear-down ---------------------------------------------------------------------
+    def __enter__(self) -> Bridge:
+        keys, session, stack = self.keys, self.session, self._stack
+        telemetry = Traffic.BULK if self.config.speed == 0 else Traffic.TELEMETRY
+        try:
+            validate = partial(validate_move, params=self.params, axis=keys.axis)
+            self._intake = stack.enter_context(MoveIntake(session, keys.trajectory, validate))
+            self._tokens = stack.enter_context(
+                session.liveliness().declare_subscriber(
+                    keys.senders, zenoh.handlers.FifoChannel(256), history=True
+                )
+            )
+            self._state_pub = stack.enter_context(
+                SequencedPublisher(session, keys.state, JOINT_STATE_TYPE, telemetry)
+            )
+            self._setpoint_pub = stack.enter_context(
+                SequencedPublisher(session, keys.setpoint, JOINT_STATE_TYPE, telemetry)
+            )
+            self._status_pub = stack.enter_context(
+                SequencedPublisher(session, keys.event, MOVE_STATUS_TYPE, Traffic.COMMAND)
+            )
+            stack.enter_context(session.liveliness().declare_token(keys.alive))
+        except BaseException:
+            stack.close()
+            raise
+        wait = self.config.wait_subscribers_s
+        if wait > 0 and not wait_for_subscribers([self._state_pub], wait):
+            log.warning("no subscriber on %s after %.1f s; starting anyway", keys.state, wait)
+        first = self.drive.read()
+        self._queue = MoveQueue(
+            self.params, first.position_m, first.stamp_ns, keys.axis, self.config.jump_tolerance_m
+        )
+        return self
+
+    def __exit__(self, *_exc: object) -> None:
+        try:
+            for received, _deadline in self._pending:  # still waiting for a token
+                self._reject(received, "the bridge stopped before its sender's token arrived")
+            self._pending.clear()
+            self.report.ticks = self.tick
+            self.report.moves_missed = self._intake.missed
+            if self._queue is not None:
+                self.report.moves_completed = self._queue.completed
+        finally:
+            self._stack.close()
+
+    # ---- one tick ---------------------------------------------------------------------------------
+    def step(self) -> None:
+        """Run tick :attr:`tick`: senders, new moves, sample, setpoint (see the module docstring)."""
+        queue = self._queue
+        if queue is None:
+            raise AcquisitionError("Bridge.step() needs the bridge entered (use it as a context manager)")
+        self._apply_sender_tokens()
+        self._take_moves()
+        sample = self.drive.read()
+        self._state_pub.put(sample.encode())
+        step = queue.advance(self.tick)
+        for done in step.finished:
+            self._status(MoveState.COMPLETED, done, f"completed move {done.command.move_id}")
+        if step.started is not None:
+            q = step.started
+            self._status(MoveState.STARTED, q, f"started move {q.command.move_id}")
+        self._setpoint_pub.put(step.setpoint.to_sample(sample.stamp_ns, self.keys.axis, self.params).encode())
+        self.drive.apply(step.setpoint)
+        self.tick += 1
+
+    def _apply_sender_tokens(self) -> None:
+        assert self._queue is not None
+        while (token := self._tokens.try_recv()) is not None:
+            gid = sender_of_token(str(token.key_expr))
+            if gid is None:
+                continue
+            if token.kind == zenoh.SampleKind.PUT:
+                self._alive.add(gid)
+                self._gone.discard(gid)
+                continue
+            self._alive.discard(gid)
+            self._gone.add(gid)
+            dropped = self._queue.drop_sender(gid, self.tick)
+            for q in dropped:
+                self._status(
+                    MoveState.DROPPED,
+                    q,
+                    f"dropped move {q.command.move_id}: sender {gid.hex()} disappeared (its moves that had "
+                    "not started, and every move queued after the first of them, are dropped)",
+                )
+            self.report.moves_dropped += len(dropped)
+            if dropped:
+                log.warning("sender %s disappeared: dropped %d queued moves", gid.hex(), len(dropped))
+
+    def _take_moves(self) -> None:
+        """Queue the moves validated since the last tick, in arrival order; a move whose sender's
+        token has not arrived yet waits for it (the token and the move travel separately), at most
+        :data:`SENDER_GRACE_S`."""
+        assert self._queue is not None
+        for received in self._intake.poll():
+            if received.error:
+                self._reject(received, received.error)
+            else:
+                self._pending.append((received, time.monotonic() + SENDER_GRACE_S))
+        while self._pending:
+            received, deadline = self._pending[0]
+            sender = received.sender
+            if sender not in self._alive:
+                if sender not in self._gone and time.monotonic() < deadline:
+                    break
+                self._pending.popleft()
+                self._reject(
+                    received,
+                    f"its sender holds no liveliness token {self.keys.senders} (send moves with MoveSender "
+                    "and keep it open while they run)",
+                )
+                continue
+            self._pending.popleft()
+            cmd, move = received.command, received.move
+            assert cmd is not None and move is not None
+            try:
+                queued = self._queue.enqueue(cmd, move, self.tick, sender)
+            except AcquisitionError as exc:
+                self._reject(received, str(exc))
+                continue
+            self.report.moves_accepted += 1
+            log.info("accepted move %d: ticks %d..%d", cmd.move_id, queued.start_tick, queued.end_tick)
+            self._status(
+                MoveState.ACCEPTED,
+                queued,
+                f"accepted move {cmd.move_id}: start tick {queued.start_tick}, end tick {queued.end_tick}",
+            )
+
+    # ---- move status ------------------------------------------------------------------------------
+    def _status(self, state: MoveState, q: QueuedMove, text: str) -> None:
+        self._publish(MoveStatus(self._stamp(), self.keys.axis, state, q.command.move_id, self.tick,
+                                 q.start_tick, q.end_tick, q.sender.hex(), text))  # fmt: skip
+
+    def _reject(self, received: ReceivedMove, reason: str) -> None:
+        move_id = received.command.move_id if received.command is not None else 0
+        text = reason if reason.startswith(f"move {move_id}") else f"move {move_id}: {reason}"
+        self.report.moves_rejected += 1
+        self.report.rejections.append(text)
+        log.warning("rejected %s", text)
+        self._publish(MoveStatus(self._stamp(), self.keys.axis, MoveState.REJECTED, move_id, self.tick,
+                                 NO_TICK, NO_TICK, received.sender.hex(), f"rejected {text}"))  # fmt: skip
+
+    def _stamp(self) -> int:
+        assert self._queue is not None
+        return self._queue.stamp_of(self.tick)
+
+    def _publish(self, status: MoveStatus) -> None:
+        self._status_pub.put(status.encode())
+
+    # ---- the paced loop ---------------------------------------------------------------------------
+    def run(self, stop: threading.Event | None = None) -> BridgeReport:
+        """Step at ``speed`` until ``duration_s`` of drive time has passed or ``stop`` is set."""
+        stop = stop or threading.Event()
+        speed = self.config.speed
+        n_ticks = self.config.ticks
+        jitter = DurationHistogram()
+        nominal_ns = EXECUTION_PERIOD_NS / speed if speed > 0 else 0.0
+        t_start = time.monotonic_ns()
+        prev = t_start
+        first_tick = self.tick
+        while not stop.is_set() and (n_ticks is None or self.tick - first_tick < n_ticks):
+            if speed > 0:
+                deadline = t_start + int((self.tick - first_tick) * nominal_ns)
+                now = time.monotonic_ns()
+                if deadline - now > _SLEEP_MARGIN_NS and stop.wait(
+                    (deadline - now - _SLEEP_MARGIN_NS) * 1e-9
+                ):
+                    break
+                while (now := time.monotonic_ns()) < deadline:
+                    pass
+                if self.tick > first_tick:
+                    jitter.add_ns(abs(now - prev - int(nominal_ns)))
+                prev = now
+            self.step()
+        self.report.ticks = self.tick
+        self.report.wall_time_s = (time.monotonic_ns() - t_start) * 1e-9
+        self.report.period_jitter = jitter.stats() if speed > 0 else None
+        return self.report
+
 
 def run_bridge(
     session: zenoh.Session,
@@ -116,125 +340,7 @@ def run_bridge(
     config: BridgeConfig,
     stop: threading.Event | None = None,
 ) -> BridgeReport:
-    """Run the 1 kHz loop until ``duration_s`` of drive time has passed or ``stop`` is set."""
-    stop = stop or threading.Event()
-    keys = config.keys
-    report = BridgeReport()
-    telemetry = Traffic.BULK if config.speed == 0 else Traffic.TELEMETRY
-    n_ticks = None if config.duration_s is None else round(config.duration_s * 1e9 / DRIVE_PERIOD_NS)
-    jitter = DurationHistogram()
-    with (
-        MoveIntake(session, keys.trajectory, partial(validate_move, params=params, axis=keys.axis)) as intake,
-        session.liveliness().declare_subscriber(
-            keys.senders, zenoh.handlers.FifoChannel(256), history=True
-        ) as sender_tokens,
-        SequencedPublisher(session, keys.state, JOINT_STATE_TYPE, telemetry) as state_pub,
-        SequencedPublisher(session, keys.setpoint, JOINT_STATE_TYPE, telemetry) as setpoint_pub,
-        SequencedPublisher(session, keys.event, STRING_TYPE, Traffic.COMMAND) as event_pub,
-        session.liveliness().declare_token(keys.alive),
-    ):
-        if config.wait_subscribers_s > 0 and not wait_for_subscribers([state_pub], config.wait_subscribers_s):
-            log.warning(
-                "no subscriber on %s after %.1f s; starting anyway", keys.state, config.wait_subscribers_s
-            )
-        first = drive.read()
-        queue = MoveQueue(params, first.position_m, first.stamp_ns, keys.axis, config.jump_tolerance_m)
-        alive: set[bytes] = set()
-        gone: set[bytes] = set()
-        pending: deque[tuple[ReceivedMove, float]] = deque()
-
-        def event(text: str) -> None:
-            event_pub.put(BridgeEvent(text).encode())
-
-        def reject(reason: str) -> None:
-            report.moves_rejected += 1
-            report.rejections.append(reason)
-            log.warning("rejected: %s", reason)
-            event(f"rejected {reason}")
-
-        nominal_ns = DRIVE_PERIOD_NS / config.speed if config.speed > 0 else 0.0
-        t_start = time.monotonic_ns()
-        prev = t_start
-        tick = 0
-        while not stop.is_set() and (n_ticks is None or tick < n_ticks):
-            if config.speed > 0:
-                deadline = t_start + int(tick * nominal_ns)
-                now = time.monotonic_ns()
-                if deadline - now > _SLEEP_MARGIN_NS and stop.wait(
-                    (deadline - now - _SLEEP_MARGIN_NS) * 1e-9
-                ):
-                    break
-                while (now := time.monotonic_ns()) < deadline:
-                    pass
-                if tick:
-                    jitter.add_ns(abs(now - prev - int(nominal_ns)))
-                prev = now
-            while (token := sender_tokens.try_recv()) is not None:
-                gid = sender_of_token(str(token.key_expr))
-                if gid is None:
-                    continue
-                if token.kind == zenoh.SampleKind.PUT:
-                    alive.add(gid)
-                    gone.discard(gid)
-                    continue
-                alive.discard(gid)
-                gone.add(gid)
-                dropped = queue.drop_sender(gid, tick)
-                if dropped:
-                    report.moves_dropped += len(dropped)
-                    ids = ", ".join(str(q.command.move_id) for q in dropped)
-                    text = (
-                        f"dropped moves {ids}: sender {gid.hex()} disappeared (its moves that had not "
-                        "started, and every move queued after the first of them)"
-                    )
-                    log.warning("%s", text)
-                    event(text)
-            for received in intake.poll():
-                if received.error:
-                    reject(received.error)
-                else:
-                    pending.append((received, time.monotonic() + SENDER_GRACE_S))
-            # moves in arrival order; one whose sender's token has not arrived yet waits for it (the
-            # token and the move travel separately), at most SENDER_GRACE_S
-            while pending:
-                received, deadline = pending[0]
-                cmd, sender = received.command, received.sender
-                assert cmd is not None and received.move is not None
-                if sender not in alive:
-                    if sender not in gone and time.monotonic() < deadline:
-                        break
-                    pending.popleft()
-                    reject(
-                        f"move {cmd.move_id}: its sender holds no liveliness token {keys.senders} "
-                        "(send moves with MoveSender and keep it open while they run)"
-                    )
-                    continue
-                pending.popleft()
-                try:
-                    queued = queue.enqueue(cmd, received.move, tick, sender)
-                except AcquisitionError as exc:
-                    reject(str(exc))
-                    continue
-                report.moves_accepted += 1
-                log.info("accepted move %d: ticks %d..%d", cmd.move_id, queued.start_tick, queued.end_tick)
-                event(
-                    f"accepted move {cmd.move_id}: start tick {queued.start_tick}, end tick {queued.end_tick}"
-                )
-            sample = drive.read()
-            state_pub.put(sample.encode())
-            setpoint = queue.setpoint(tick)
-            setpoint_pub.put(setpoint.to_sample(sample.stamp_ns, keys.axis, params).encode())
-            drive.apply(setpoint)
-            for done in queue.finished:
-                event(f"completed move {done.command.move_id} at tick {done.end_tick}")
-            queue.finished.clear()
-            tick += 1
-        for received, _deadline in pending:  # still waiting for a token when the bridge stops
-            assert received.command is not None
-            reject(f"move {received.command.move_id}: the bridge stopped before its sender's token arrived")
-        report.ticks = tick
-        report.wall_time_s = (time.monotonic_ns() - t_start) * 1e-9
-        report.moves_completed = queue.completed
-        report.moves_missed = intake.missed
-        report.period_jitter = jitter.stats() if config.speed > 0 else None
-    return report
+    """Run a :class:`Bridge` until ``duration_s`` of drive time has passed or ``stop`` is set."""
+    with Bridge(session, drive, params, config) as bridge:
+        bridge.run(stop)
+    return bridge.report

@@ -1,12 +1,13 @@
 """The typed records of the wire contract and their ROS 2 CDR encoding.
 
-Three message types cross Zenoh and land in MCAP, each with its ``ros2msg`` schema text (the
+The message types that cross Zenoh and land in MCAP, each with its ``ros2msg`` schema text (the
 definition with its dependencies, as rosbag2 stores it) so that any tool decodes them:
 
 * ``sensor_msgs/msg/JointState`` — :class:`JointState`; the 1 kHz samples and setpoints of an axis,
   with the two joints of :class:`AxisSample` (``carriage``: m, m/s, N; ``motor``: rad, rad/s, N·m).
 * ``axisflow_msgs/msg/Move`` — :class:`MoveCommand`; one rest-to-rest move sent to a drive.
-* ``std_msgs/msg/String`` — :class:`BridgeEvent`; human-readable events of a bridge (rejections).
+* ``axisflow_msgs/msg/MoveStatus`` — :class:`~axisflow.acquisition.move_status.MoveStatus`; what a
+  bridge did with each move (accepted, rejected with the reason, started, completed, dropped).
 
 Time stamps are integer nanoseconds since the Unix epoch (``builtin_interfaces/Time`` on the wire).
 """
@@ -16,36 +17,30 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .cdr import CdrReader, CdrWriter
+from .cdr import (
+    HEADER_DEPENDENCIES,
+    CdrReader,
+    CdrWriter,
+    read_time,
+    schema_with_dependencies,
+    write_time,
+)
 from .errors import WireError
+from .move_status import MOVE_STATUS_SCHEMA, MOVE_STATUS_TYPE
 
 JOINT_STATE_TYPE = "sensor_msgs/msg/JointState"
 MOVE_TYPE = "axisflow_msgs/msg/Move"
-STRING_TYPE = "std_msgs/msg/String"
 
-_SEPARATOR = "=" * 80
-_TIME_DEF = "int32 sec\nuint32 nanosec\n"
-_HEADER_DEF = "builtin_interfaces/Time stamp\nstring frame_id\n"
-
-
-def _with_dependencies(main: str, *deps: tuple[str, str]) -> str:
-    parts = [main.rstrip("\n")]
-    for name, text in deps:
-        parts.append(f"{_SEPARATOR}\nMSG: {name}\n{text.rstrip(chr(10))}")
-    return "\n".join(parts) + "\n"
-
-
-JOINT_STATE_SCHEMA = _with_dependencies(
+JOINT_STATE_SCHEMA = schema_with_dependencies(
     "std_msgs/Header header\nstring[] name\nfloat64[] position\nfloat64[] velocity\nfloat64[] effort\n",
-    ("std_msgs/Header", _HEADER_DEF),
-    ("builtin_interfaces/Time", _TIME_DEF),
+    *HEADER_DEPENDENCIES,
 )
 
-MOVE_SCHEMA = _with_dependencies(
+MOVE_SCHEMA = schema_with_dependencies(
     "# A rest-to-rest move of a linear axis: x(t) = x0 + (x1 - x0)·s((t - start)/duration), s = law.\n"
     "# header.stamp: when the move was sent (ns since the Unix epoch); header.frame_id: the axis name.\n"
     "std_msgs/Header header\n"
-    "# identifier chosen by the sender, echoed in the bridge's events\n"
+    "# identifier chosen by the sender, echoed in the bridge's move status\n"
     "uint64 move_id\n"
     "# drive time at which the move starts; 0 s 0 ns = append: start right after the queued moves\n"
     "builtin_interfaces/Time start\n"
@@ -54,39 +49,19 @@ MOVE_SCHEMA = _with_dependencies(
     "float64 start_position_m\n"
     "float64 end_position_m\n"
     "float64 duration_s\n",
-    ("std_msgs/Header", _HEADER_DEF),
-    ("builtin_interfaces/Time", _TIME_DEF),
+    *HEADER_DEPENDENCIES,
 )
-
-STRING_SCHEMA = "string data\n"
 
 SCHEMAS: dict[str, str] = {
     JOINT_STATE_TYPE: JOINT_STATE_SCHEMA,
     MOVE_TYPE: MOVE_SCHEMA,
-    STRING_TYPE: STRING_SCHEMA,
+    MOVE_STATUS_TYPE: MOVE_STATUS_SCHEMA,
 }
 """ros2msg schema text by ROS 2 type name, for every type axisflow publishes."""
 
 CARRIAGE_JOINT = "carriage"
 MOTOR_JOINT = "motor"
 AXIS_JOINTS = (CARRIAGE_JOINT, MOTOR_JOINT)
-_NS_PER_S = 1_000_000_000
-
-
-def _write_time(w: CdrWriter, t_ns: int) -> None:
-    sec, nanosec = divmod(t_ns, _NS_PER_S)
-    if not -(2**31) <= sec < 2**31:
-        raise WireError(f"time stamp {t_ns} ns is outside the int32 seconds range of builtin_interfaces/Time")
-    w.int32(sec)
-    w.uint32(nanosec)
-
-
-def _read_time(r: CdrReader) -> int:
-    sec = r.int32()
-    nanosec = r.uint32()
-    if nanosec >= _NS_PER_S:
-        raise WireError(f"builtin_interfaces/Time nanosec = {nanosec} must be < {_NS_PER_S}")
-    return sec * _NS_PER_S + nanosec
 
 
 @dataclass(frozen=True)
@@ -103,7 +78,7 @@ class JointState:
     def encode(self) -> bytes:
         """ROS 2 CDR bytes (with the CDR_LE encapsulation header)."""
         w = CdrWriter()
-        _write_time(w, self.stamp_ns)
+        write_time(w, self.stamp_ns)
         w.string(self.frame_id)
         w.string_sequence(self.name)
         w.float64_sequence(self.position)
@@ -114,7 +89,7 @@ class JointState:
     @classmethod
     def decode(cls, data: bytes | bytearray | memoryview) -> JointState:
         r = CdrReader(data, JOINT_STATE_TYPE)
-        stamp_ns = _read_time(r)
+        stamp_ns = read_time(r)
         return cls(
             stamp_ns=stamp_ns,
             frame_id=r.string(),
@@ -216,10 +191,10 @@ class MoveCommand:
 
     def encode(self) -> bytes:
         w = CdrWriter()
-        _write_time(w, self.stamp_ns)
+        write_time(w, self.stamp_ns)
         w.string(self.axis)
         w.uint64(self.move_id)
-        _write_time(w, self.start_ns)
+        write_time(w, self.start_ns)
         w.string(self.law)
         w.float64(self.start_position_m)
         w.float64(self.end_position_m)
@@ -229,10 +204,10 @@ class MoveCommand:
     @classmethod
     def decode(cls, data: bytes | bytearray | memoryview) -> MoveCommand:
         r = CdrReader(data, MOVE_TYPE)
-        stamp_ns = _read_time(r)
+        stamp_ns = read_time(r)
         axis = r.string()
         move_id = r.uint64()
-        start_ns = _read_time(r)
+        start_ns = read_time(r)
         return cls(
             stamp_ns=stamp_ns,
             axis=axis,
@@ -243,19 +218,3 @@ class MoveCommand:
             end_position_m=r.float64(),
             duration_s=r.float64(),
         )
-
-
-@dataclass(frozen=True)
-class BridgeEvent:
-    """``std_msgs/msg/String``: a human-readable event of a bridge (e.g. why a move was rejected)."""
-
-    text: str
-
-    def encode(self) -> bytes:
-        w = CdrWriter()
-        w.string(self.text)
-        return w.to_bytes()
-
-    @classmethod
-    def decode(cls, data: bytes | bytearray | memoryview) -> BridgeEvent:
-        return cls(CdrReader(data, STRING_TYPE).string())

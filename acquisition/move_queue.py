@@ -23,7 +23,10 @@ Rejections raise :class:`~axisflow.acquisition.errors.MoveRejectedError` with th
 Timing: tick k is the drive time ``t0 + k·1 ms``. An appended move starts at the end tick of the
 previous one (whose sample is the previous end point at rest, equal to this move's start point), or at
 the current tick if the queue is empty: no idle tick between queued moves. A move spanning T seconds
-ends at tick ``start + ceil(T / 1 ms)``. With no move active the axis holds the last position.
+ends at tick ``start +`` :func:`~axisflow.model.move_ticks` (T) (the sampling rule of
+:mod:`axisflow.model.sampling`, the one the validation checks). With no move active the axis holds the
+last position. :meth:`MoveQueue.advance` gives each tick's setpoint with the moves that started and
+ended at it.
 
 Senders: every queued move remembers its sender (the publisher id of its attachment). When a sender
 disappears, :meth:`MoveQueue.drop_sender` removes its moves that have not started and every move
@@ -38,14 +41,17 @@ from collections import deque
 from dataclasses import dataclass
 
 from ..model import (
+    EXECUTION_PERIOD_NS,
+    EXECUTION_PERIOD_S,
     AxisflowError,
     AxisParams,
     Move,
     cart_force,
     check_limits,
+    move_ticks,
     polynomial_law,
 )
-from .drive import DRIVE_PERIOD_NS, Setpoint
+from .drive import Setpoint
 from .errors import MoveRejectedError
 from .messages import MoveCommand
 
@@ -54,7 +60,6 @@ MAX_QUEUED_MOVES = 1024
 """moves a drive holds at once (running included); more are rejected until some have run"""
 CHECK_POINTS = 1001
 """evenly spaced times at which a move's torque is checked besides the 1 kHz samples"""
-_DT_S = DRIVE_PERIOD_NS * 1e-9
 
 
 def validate_move(cmd: MoveCommand, params: AxisParams, axis: str = "") -> Move:
@@ -95,6 +100,15 @@ class QueuedMove:
     """publisher id of the move's sender (its attachment), b"" when unknown"""
 
 
+@dataclass(frozen=True)
+class QueueStep:
+    """One tick of the queue: the setpoint, the move whose first sample it is, the moves that ended."""
+
+    setpoint: Setpoint
+    started: QueuedMove | None
+    finished: tuple[QueuedMove, ...]
+
+
 class MoveQueue:
     """Validated moves in execution order and the hold position after them."""
 
@@ -115,8 +129,8 @@ class MoveQueue:
         self._queue: deque[QueuedMove] = deque()
         self._hold_m = hold_position_m
         self.completed = 0
-        self.finished: list[QueuedMove] = []
-        """moves that ran to their end since the caller last cleared this list"""
+        self._head_started = False
+        """whether the move at the head of the queue has had its first sample"""
 
     def __len__(self) -> int:
         return len(self._queue)
@@ -130,7 +144,11 @@ class MoveQueue:
         return max(self._queue[-1].end_tick, now_tick) if self._queue else now_tick
 
     def tick_of(self, stamp_ns: int) -> int:
-        return math.ceil((stamp_ns - self._start_ns) / DRIVE_PERIOD_NS)
+        return math.ceil((stamp_ns - self._start_ns) / EXECUTION_PERIOD_NS)
+
+    def stamp_of(self, tick: int) -> int:
+        """Drive time [ns] of ``tick``."""
+        return self._start_ns + tick * EXECUTION_PERIOD_NS
 
     def validate(self, cmd: MoveCommand) -> Move:
         """:func:`validate_move` with this queue's parameters and axis."""
@@ -154,13 +172,12 @@ class MoveQueue:
         else:
             start_tick = self.tick_of(cmd.start_ns)
             if start_tick < earliest:
+                early_ms = (earliest - start_tick) * EXECUTION_PERIOD_S * 1e3
                 raise MoveRejectedError(
-                    f"{tag}: start {cmd.start_ns} ns is {(earliest - start_tick) * _DT_S * 1e3:.0f} ms "
-                    "before "
-                    f"the end of the queued moves / the current drive time (use start 0 to append)"
+                    f"{tag}: start {cmd.start_ns} ns is {early_ms:.0f} ms before the end of the queued moves "
+                    "/ the current drive time (use start 0 to append)"
                 )
-        n_ticks = math.ceil(cmd.duration_s / _DT_S - 1e-9)
-        queued = QueuedMove(cmd, move, start_tick, start_tick + n_ticks, sender)
+        queued = QueuedMove(cmd, move, start_tick, start_tick + move_ticks(cmd.duration_s), sender)
         self._queue.append(queued)
         return queued
 
@@ -179,17 +196,30 @@ class MoveQueue:
                 return dropped[::-1]
         return []
 
-    def setpoint(self, tick: int) -> Setpoint:
-        """The setpoint of ``tick`` (non-decreasing ticks): the active move's sample, or hold."""
+    def advance(self, tick: int) -> QueueStep:
+        """The setpoint of ``tick`` (non-decreasing ticks): the active move's sample, or hold; with the
+        moves that ended (their end tick reached) and the move that started at this tick."""
+        finished = []
         while self._queue and tick >= self._queue[0].end_tick:
             done = self._queue.popleft()
             self._hold_m = done.move.x1_m
             self.completed += 1
-            self.finished.append(done)
+            finished.append(done)
+        if finished:
+            self._head_started = False
         if not self._queue or tick < self._queue[0].start_tick:
-            return Setpoint(self._hold_m, 0.0, 0.0, 0.0)
+            return QueueStep(Setpoint(self._hold_m, 0.0, 0.0, 0.0), None, tuple(finished))
         q = self._queue[0]
-        s = q.move.sample((tick - q.start_tick) * _DT_S)
+        started = None
+        if not self._head_started:
+            self._head_started = True
+            started = q
+        s = q.move.sample((tick - q.start_tick) * EXECUTION_PERIOD_S)
         v = float(s.velocity_m_s)
         a = float(s.acceleration_m_s2)
-        return Setpoint(float(s.position_m), v, a, float(cart_force(v, a, self.params)))
+        setpoint = Setpoint(float(s.position_m), v, a, float(cart_force(v, a, self.params)))
+        return QueueStep(setpoint, started, tuple(finished))
+
+    def setpoint(self, tick: int) -> Setpoint:
+        """The setpoint of ``tick`` (see :meth:`advance`)."""
+        return self.advance(tick).setpoint

@@ -5,8 +5,12 @@
         sender.send(0.5, 0.2, 0.6, start_ns=t_ns)          # starts at drive time t_ns
 
 Moves go out on ``<prefix>/<axis>/trajectory`` as ``axisflow_msgs/msg/Move`` with command priority and
-blocking congestion control, numbered so the bridge counts any that were lost. The bridge answers on
-``<prefix>/<axis>/event`` ("accepted move N…" / "rejected move N: reason" / "completed move N").
+blocking congestion control, numbered so the bridge counts any that were lost. The bridge answers each
+step of a move's life with a typed :class:`~axisflow.acquisition.move_status.MoveStatus` on
+``<prefix>/<axis>/event``; the sender keeps those about its own moves (:meth:`MoveSender.poll_status`,
+:meth:`MoveSender.wait_status`)::
+
+    status = sender.wait_status(cmd.move_id, {MoveState.COMPLETED}, timeout_s=5.0)
 
 While the sender is open it holds the liveliness token ``<prefix>/<axis>/sender/<id>``. A bridge runs
 only moves whose sender is alive: when the sender closes (or its process dies), the bridge finishes the
@@ -17,12 +21,18 @@ its moves have run.
 from __future__ import annotations
 
 import time
+from collections.abc import Collection
 
 import zenoh
 
+from .errors import WireError
 from .keys import AxisKeys
 from .messages import APPEND, MOVE_TYPE, MoveCommand
+from .move_status import MoveState, MoveStatus
 from .publisher import SequencedPublisher, Traffic, wait_for_subscribers
+
+STATUS_BACKLOG = 1 << 16
+"""move statuses the sender's subscriber holds before the bridge's publication waits"""
 
 
 class MoveSender:
@@ -32,8 +42,48 @@ class MoveSender:
         self.keys = keys
         self._session = session
         self._pub = SequencedPublisher(session, keys.trajectory, MOVE_TYPE, Traffic.COMMAND)
+        self._status_sub = session.declare_subscriber(keys.event, zenoh.handlers.FifoChannel(STATUS_BACKLOG))
         self._token = session.liveliness().declare_token(keys.sender(self._pub.gid))
         self._next_id = 1
+        self.statuses: list[MoveStatus] = []
+        """every status the bridge published about this sender's moves, in arrival order"""
+
+    @property
+    def sender_id(self) -> str:
+        """This sender's publisher id (hex), as the bridge names it in :attr:`MoveStatus.sender`."""
+        return self._pub.gid.hex()
+
+    def poll_status(self) -> list[MoveStatus]:
+        """The statuses of this sender's moves that arrived since the last call (also appended to
+        :attr:`statuses`)."""
+        new = []
+        while (sample := self._status_sub.try_recv()) is not None:
+            try:
+                status = MoveStatus.decode(sample.payload.to_bytes())
+            except WireError:
+                continue  # not a status of the contract: nothing a sender can act on
+            if status.sender == self.sender_id:
+                new.append(status)
+        self.statuses.extend(new)
+        return new
+
+    def wait_status(
+        self, move_id: int, states: Collection[MoveState], timeout_s: float, poll_s: float = 0.001
+    ) -> MoveStatus | None:
+        """The first status of move ``move_id`` in one of ``states`` (already received or arriving
+        within ``timeout_s``), or None. A rejection ends the wait too (it is the move's last status)."""
+        wanted = {*states, MoveState.REJECTED}
+        deadline = time.monotonic() + timeout_s
+        seen = 0
+        while True:
+            for status in self.statuses[seen:]:
+                if status.move_id == move_id and status.state in wanted:
+                    return status
+            seen = len(self.statuses)
+            if time.monotonic() >= deadline:
+                return None
+            if not self.poll_status():
+                time.sleep(poll_s)
 
     def wait_for_bridge(self, timeout_s: float) -> bool:
         """True once the bridge's liveliness token answers and the trajectory key has a subscriber.
@@ -79,6 +129,7 @@ class MoveSender:
 
     def close(self) -> None:
         self._token.undeclare()
+        self._status_sub.undeclare()
         self._pub.undeclare()
 
     def __enter__(self) -> MoveSender:

@@ -73,18 +73,7 @@ def run(args: argparse.Namespace) -> int:
         finally:
             drive.close()
     if args.json:
-        out = {
-            "ticks": report.ticks,
-            "wall_time_s": report.wall_time_s,
-            "moves_accepted": report.moves_accepted,
-            "moves_rejected": report.moves_rejected,
-            "moves_completed": report.moves_completed,
-            "moves_dropped": report.moves_dropped,
-            "moves_missed": report.moves_missed,
-            "period_jitter": report.period_jitter.to_dict() if report.period_jitter else None,
-            "rejections": report.rejections,
-        }
-        print(json.dumps(out, indent=2))
+        print(json.dumps(report.to_dict(), indent=2))
     else:
         print(report.summary())
     return 0

@@ -15,9 +15,10 @@ from axisflow.acquisition import (
     AxisKeys,
     AxisSample,
     BridgeConfig,
-    BridgeEvent,
     MoveCommand,
     MoveSender,
+    MoveState,
+    MoveStatus,
     SimulatedAxis,
     ZenohOptions,
     load_plant,
@@ -50,7 +51,7 @@ class _Bridge:
         self.drive = SimulatedAxis(load_plant(None, PARAMS), PARAMS, T0, axis="a0")
         self.config = BridgeConfig(keys=KEYS, speed=2.0, duration_s=duration_s, wait_subscribers_s=10.0)
         self.report = None
-        self.texts: list[str] = []
+        self.statuses: list[MoveStatus] = []
 
     def __enter__(self):
         self._bridge_session = open_session(ZenohOptions.loopback(listen_port=self.port))
@@ -65,20 +66,26 @@ class _Bridge:
     def _run(self) -> None:
         self.report = run_bridge(self._bridge_session, self.drive, PARAMS, self.config)
 
-    def wait_event(self, prefix: str, timeout_s: float = 20.0) -> str:
+    def _collect(self) -> None:
+        self.statuses += [MoveStatus.decode(s.payload.to_bytes()) for s in _drain(self.events)]
+
+    def wait_status(self, move_id: int, state: MoveState, timeout_s: float = 20.0) -> MoveStatus:
         deadline = time.monotonic() + timeout_s
         while time.monotonic() < deadline:
-            self.texts += [BridgeEvent.decode(s.payload.to_bytes()).text for s in _drain(self.events)]
-            hits = [t for t in self.texts if t.startswith(prefix)]
+            self._collect()
+            hits = [s for s in self.statuses if s.move_id == move_id and s.state is state]
             if hits:
                 return hits[0]
             time.sleep(0.01)
-        pytest.fail(f"no event {prefix!r} within {timeout_s} s; events: {self.texts}")
+        pytest.fail(f"no {state.name} status of move {move_id} within {timeout_s} s; got: {self.statuses}")
+
+    def of(self, state: MoveState) -> list[MoveStatus]:
+        return [s for s in self.statuses if s.state is state]
 
     def finish(self) -> list[AxisSample]:
         self._thread.join(timeout=30)
         assert not self._thread.is_alive()
-        self.texts += [BridgeEvent.decode(s.payload.to_bytes()).text for s in _drain(self.events)]
+        self._collect()
         return [AxisSample.decode(s.payload.to_bytes()) for s in _drain(self.setpoints)]
 
     def __exit__(self, *_exc):
@@ -107,13 +114,28 @@ def test_moves_queue_back_to_back_and_bad_ones_are_rejected(port):
             sender.send(0.3, 0.1, 0.5, law="poly7")
             sender.send(0.5, 0.6, 0.5)  # jumps from 0.1 m: rejected
             sender.send(0.1, 0.7, 0.0005)  # shorter than a tick: 2250 m/s at its peak, rejected
-            bridge.wait_event("completed move 2")  # the sender stays open while its moves run
+            done = sender.wait_status(2, {MoveState.COMPLETED}, 20.0)  # the sender stays open while they run
+            assert done is not None and done.state is MoveState.COMPLETED
+            own = {(st.move_id, st.state) for st in sender.statuses}
         received = bridge.finish()
     r = bridge.report
     assert (r.moves_accepted, r.moves_rejected, r.moves_missed, r.moves_dropped) == (2, 2, 0, 0)
-    assert any("rejected move 3: start_position_m = 0.5 m jumps 0.4 m" in t for t in bridge.texts)
-    assert any("rejected move 4: peak velocity 2250 m/s exceeds v_max = 1.0 m/s" in t for t in bridge.texts)
-    assert sum(t.startswith("accepted") for t in bridge.texts) == 2
+    rejected = {st.move_id: st for st in bridge.of(MoveState.REJECTED)}
+    assert set(rejected) == {3, 4}
+    assert "start_position_m = 0.5 m jumps 0.4 m" in rejected[3].text
+    assert "peak velocity 2250 m/s exceeds v_max = 1.0 m/s" in rejected[4].text
+    assert rejected[3].start_tick == rejected[3].end_tick == -1
+    # each accepted move was accepted, started and completed, in that order, at the ticks it announced
+    for move_id in (1, 2):
+        life = [st for st in bridge.statuses if st.move_id == move_id]
+        assert [st.state for st in life] == [MoveState.ACCEPTED, MoveState.STARTED, MoveState.COMPLETED]
+        accepted, started, completed = life
+        assert started.tick == accepted.start_tick and completed.tick == accepted.end_tick
+    first, second = ({st.move_id: st for st in bridge.of(MoveState.ACCEPTED)}[i] for i in (1, 2))
+    assert second.start_tick == first.end_tick  # appended: no idle tick
+    assert second.end_tick - second.start_tick == 500
+    # the sender saw the statuses of its own moves, and only those
+    assert own >= {(1, MoveState.COMPLETED), (2, MoveState.COMPLETED), (3, MoveState.REJECTED)}
     x = np.array([s.position_m for s in received])
     stamps = np.array([s.stamp_ns for s in received])
     assert set(np.diff(stamps).tolist()) == {1_000_000}
@@ -130,12 +152,14 @@ def test_a_sender_that_disappears_mid_move_leaves_the_axis_at_rest_and_its_queue
         with _live_sender(port) as sender:
             sender.send(0.0, 0.6, 1.5, law="poly5")
             sender.send(0.6, 0.2, 1.0, law="poly5")
-            bridge.wait_event("accepted move 2")
+            bridge.wait_status(2, MoveState.ACCEPTED)
             # the planner's session ends while move 1 runs (1.5 s of drive time = 0.75 s here)
         received = bridge.finish()
     r = bridge.report
     assert (r.moves_accepted, r.moves_completed, r.moves_dropped) == (2, 1, 1)
-    assert any(t.startswith("dropped moves 2: sender ") and "disappeared" in t for t in bridge.texts)
+    dropped = bridge.of(MoveState.DROPPED)
+    assert [st.move_id for st in dropped] == [2] and "disappeared" in dropped[0].text
+    assert bridge.of(MoveState.COMPLETED)[0].move_id == 1
     x = np.array([s.position_m for s in received])
     v = np.array([s.velocity_m_s for s in received])
     assert x.max() == pytest.approx(0.6)  # move 1 ran to its end ...
@@ -152,10 +176,11 @@ def test_moves_of_a_publisher_without_a_sender_token_are_refused(port):
             while not pub.has_subscribers and time.monotonic() < deadline:
                 time.sleep(0.01)
             pub.put(MoveCommand(time.time_ns(), "a0", 7, 0, "poly5", 0.0, 0.1, 0.5).encode())
-            text = bridge.wait_event("rejected move 7")
+            status = bridge.wait_status(7, MoveState.REJECTED)
             pub.undeclare()
         bridge.finish()
-    assert "its sender holds no liveliness token axisflow/a0/sender/*" in text
+    assert "its sender holds no liveliness token axisflow/a0/sender/*" in status.text
+    assert status.sender == pub.gid.hex()
     assert bridge.report.moves_accepted == 0
 
 
@@ -181,3 +206,37 @@ def test_sender_finds_the_bridge_through_the_recorder_by_gossip(cli, tmp_path, p
     assert '"moves_accepted": 1' in bridge_out, bridge_err
     assert '"moves_completed": 1' in bridge_out
     assert "/axisflow/a0/trajectory" in rec_out
+
+
+def test_a_test_can_drive_the_bridge_tick_by_tick(port):
+    """Bridge.step() runs one tick: no clock, so a move's whole life can be checked tick by tick."""
+    from axisflow.acquisition import Bridge
+
+    drive = SimulatedAxis(load_plant(None, PARAMS), PARAMS, T0, axis="a0")
+    config = BridgeConfig(keys=KEYS, speed=0.0)
+    with (
+        open_session(ZenohOptions.loopback(listen_port=port)) as session,
+        Bridge(session, drive, PARAMS, config) as bridge,
+        _live_sender(port) as sender,
+    ):
+        cmd = sender.send(0.0, 0.25, 0.6, law="poly7")
+        deadline = time.monotonic() + 20.0
+        while bridge.report.moves_accepted == 0:  # the intake validates on its own thread
+            assert time.monotonic() < deadline, bridge.report
+            bridge.step()
+            time.sleep(0.001)
+        accepted = sender.wait_status(cmd.move_id, {MoveState.ACCEPTED}, 10.0)
+        # the queue was empty: the move starts on the tick that accepted it
+        assert accepted is not None and accepted.start_tick == accepted.tick == bridge.tick - 1
+        assert accepted.end_tick - accepted.start_tick == 600
+        for _ in range(accepted.end_tick - bridge.tick):
+            bridge.step()
+        assert sender.wait_status(cmd.move_id, {MoveState.COMPLETED}, 0.5) is None  # one tick to go
+        bridge.step()  # tick end_tick: the move's end at rest
+        completed = sender.wait_status(cmd.move_id, {MoveState.COMPLETED}, 10.0)
+        assert completed is not None and completed.tick == accepted.end_tick
+        assert completed.stamp_ns == T0 + completed.tick * 1_000_000
+        for _ in range(300):
+            bridge.step()
+        assert drive.position_m == pytest.approx(0.25, abs=5e-4)
+    assert bridge.report.ticks == bridge.tick and bridge.report.moves_completed == 1

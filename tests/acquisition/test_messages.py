@@ -3,16 +3,17 @@
 import pytest
 from axisflow.acquisition import (
     JOINT_STATE_TYPE,
+    MOVE_STATUS_TYPE,
     MOVE_TYPE,
     SCHEMAS,
     Attachment,
     AxisSample,
-    BridgeEvent,
     JointState,
     MoveCommand,
+    MoveState,
+    MoveStatus,
     WireError,
 )
-from axisflow.acquisition.messages import STRING_TYPE
 from mcap_ros2._dynamic import generate_dynamic, serialize_dynamic
 
 SAMPLE = AxisSample(
@@ -89,10 +90,53 @@ def test_move_round_trip_and_reference_decode():
     assert ref.start.sec * 10**9 + ref.start.nanosec == MOVE.start_ns
 
 
-def test_event_and_attachment_round_trip():
-    ev = BridgeEvent("rejected move 3: start_position_m = 0.2 m jumps")
-    assert BridgeEvent.decode(ev.encode()) == ev
-    assert _reference(STRING_TYPE)(ev.encode()).data == ev.text
+STATUS = MoveStatus(
+    stamp_ns=1_700_000_000_250_000_000,
+    axis="a0",
+    state=MoveState.REJECTED,
+    move_id=3,
+    tick=250,
+    start_tick=-1,
+    end_tick=-1,
+    sender=bytes(range(16)).hex(),
+    text="rejected move 3: start_position_m = 0.2 m jumps",
+)
+
+
+def test_move_status_round_trip_and_reference_codec():
+    data = STATUS.encode()
+    assert MoveStatus.decode(data) == STATUS
+    ref = _reference(MOVE_STATUS_TYPE)(data)
+    assert (ref.status, ref.move_id, ref.tick, ref.start_tick, ref.end_tick) == (2, 3, 250, -1, -1)
+    assert (ref.header.frame_id, ref.sender, ref.text) == ("a0", STATUS.sender, STATUS.text)
+    assert ref.header.stamp.sec * 10**9 + ref.header.stamp.nanosec == STATUS.stamp_ns
+    encode = serialize_dynamic(MOVE_STATUS_TYPE, SCHEMAS[MOVE_STATUS_TYPE])[MOVE_STATUS_TYPE]
+    ref_bytes = encode(
+        {
+            "header": {"stamp": {"sec": 1_700_000_000, "nanosec": 250_000_000}, "frame_id": "a0"},
+            "status": 2,
+            "move_id": 3,
+            "tick": 250,
+            "start_tick": -1,
+            "end_tick": -1,
+            "sender": STATUS.sender,
+            "text": STATUS.text,
+        }
+    )
+    assert bytes(ref_bytes) == data
+    # the schema's constants are the enum's values, for readers that only have the schema
+    for state in MoveState:
+        assert f"uint8 {state.name}={state.value}" in SCHEMAS[MOVE_STATUS_TYPE]
+
+
+def test_move_status_with_an_unknown_state_is_a_wire_error():
+    data = bytearray(STATUS.encode())
+    data[data.index(b"a0\x00") + 3] = 9  # the status byte (uint8: no padding) follows the frame id
+    with pytest.raises(WireError, match="move status 9 is not one of 1 \\(accepted\\)"):
+        MoveStatus.decode(bytes(data))
+
+
+def test_attachment_round_trip():
     att = Attachment(sequence=42, source_stamp_ns=1_700_000_000_000_000_000, publisher_gid=bytes(range(16)))
     raw = att.encode()
     assert len(raw) == 33
