@@ -1,15 +1,27 @@
-"""Data acquisition: the Zenoh drive bridge, the simulated axis and the MCAP recorder (issue 4).
+"""Data acquisition: the wire records, the drive side, the Zenoh bridge and the MCAP recorder.
 
-Wire contract: :mod:`.keys` (key expressions), :mod:`.messages` (ROS 2 CDR records and schemas),
-:mod:`.attachment` (sequence numbers). Drive side: :mod:`.drive` (the interface),
-:mod:`.sim_axis` (the simulated axis), :mod:`.move_queue`, :mod:`.bridge`, :mod:`.move_sender`
-(the API to send moves). Recording: :mod:`.recorder`, :mod:`.mcap_writer`, :mod:`.recording`,
-:mod:`.recover`, :mod:`.replay`. Sessions: :mod:`.zenoh_config`.
+Two layers, each importing only the one below it (and :mod:`axisflow.model`):
+
+* **records and logs** — no Zenoh: the wire contract (:mod:`.keys` key expressions, :mod:`.messages`
+  and :mod:`.move_status` ROS 2 CDR records and schemas, :mod:`.cdr`, :mod:`.attachment`), the drive
+  side (:mod:`.drive` the interface, :mod:`.sim_axis` the simulated axis, :mod:`.move_queue`) and the
+  logs (:mod:`.mcap_writer`, :mod:`.recording`, :mod:`.log_reader`, :mod:`.recover`). Identification
+  and the views use this layer; importing it never loads zenoh.
+* **network** — Zenoh sessions (:mod:`.zenoh_config`, :mod:`.publisher`), the bridge (:mod:`.bridge`,
+  :mod:`.move_intake`), :mod:`.move_sender` (the planner's API), :mod:`.recorder`, :mod:`.replay`.
+
+Names of the network layer are importable from this package too; they are loaded (with zenoh) on
+first use, so ``from axisflow.acquisition import AxisSample`` stays light. (The function ``replay``
+is imported from its module, ``axisflow.acquisition.replay``, whose name it shares.)
 """
 
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
 from .attachment import Attachment
-from .bridge import BridgeConfig, BridgeReport, run_bridge
-from .drive import DRIVE_PERIOD_NS, Drive, Setpoint
+from .drive import Drive, Setpoint
 from .errors import (
     AcquisitionError,
     MoveRejectedError,
@@ -25,62 +37,72 @@ from .messages import (
     MOVE_TYPE,
     SCHEMAS,
     AxisSample,
-    BridgeEvent,
     JointState,
     MoveCommand,
 )
 from .move_queue import MoveQueue
-from .move_sender import MoveSender
-from .recorder import Recorder, RecorderConfig, RecordSummary
+from .move_status import MOVE_STATUS_TYPE, MoveState, MoveStatus
 from .recording import RecordedMessage, is_complete, iter_recording
 from .recover import RecoverReport, recover
-from .replay import ReplayReport, replay
 from .sim_axis import PlantConfig, SimulatedAxis, load_plant
-from .zenoh_config import ZenohOptions, build_config, open_session
+
+_NETWORK_NAMES: dict[str, str] = {
+    "Bridge": "bridge",
+    "BridgeConfig": "bridge",
+    "BridgeReport": "bridge",
+    "run_bridge": "bridge",
+    "MoveSender": "move_sender",
+    "Recorder": "recorder",
+    "RecorderConfig": "recorder",
+    "RecordSummary": "recorder",
+    "ReplayReport": "replay",
+    "ZenohOptions": "zenoh_config",
+    "build_config": "zenoh_config",
+    "open_session": "zenoh_config",
+}
+
+
+def __getattr__(name: str) -> Any:
+    """Load a name of the network layer (and zenoh) on first use."""
+    module = _NETWORK_NAMES.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(importlib.import_module(f".{module}", __name__), name)
+
 
 __all__ = [
     "APPEND",
-    "DRIVE_PERIOD_NS",
     "JOINT_STATE_TYPE",
+    "MOVE_STATUS_TYPE",
     "MOVE_TYPE",
     "SCHEMAS",
     "AcquisitionError",
     "Attachment",
     "AxisKeys",
     "AxisSample",
-    "BridgeConfig",
-    "BridgeEvent",
-    "BridgeReport",
     "Drive",
     "JointState",
     "KeyExprError",
     "MoveCommand",
     "MoveQueue",
     "MoveRejectedError",
-    "MoveSender",
+    "MoveState",
+    "MoveStatus",
     "PlantConfig",
     "PlantError",
-    "RecordSummary",
     "RecordedMessage",
-    "Recorder",
-    "RecorderConfig",
     "RecordingError",
     "RecoverReport",
-    "ReplayReport",
     "Setpoint",
     "SimulatedAxis",
     "WireError",
     "ZenohConfigError",
-    "ZenohOptions",
     "all_keys",
-    "build_config",
     "is_complete",
     "iter_recording",
     "key_for_topic",
     "load_plant",
-    "open_session",
     "recover",
-    "replay",
-    "run_bridge",
     "topic_for_key",
+    *_NETWORK_NAMES,
 ]

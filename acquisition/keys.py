@@ -5,7 +5,8 @@ Per axis, under a configurable prefix (default ``axisflow``):
 * ``<prefix>/<axis>/state`` — measured samples, ``sensor_msgs/msg/JointState`` at 1 kHz;
 * ``<prefix>/<axis>/setpoint`` — what the drive is commanded each tick (same type and joints);
 * ``<prefix>/<axis>/trajectory`` — moves sent to the drive, ``axisflow_msgs/msg/Move``;
-* ``<prefix>/<axis>/event`` — the bridge's events (accepted/rejected moves), ``std_msgs/msg/String``;
+* ``<prefix>/<axis>/event`` — the bridge's move status (accepted, rejected with the reason, started,
+  completed, dropped), ``axisflow_msgs/msg/MoveStatus``;
 * ``<prefix>/<axis>/alive`` — a Zenoh liveliness token held by the running bridge (not pub/sub data);
 * ``<prefix>/<axis>/sender/<id>`` — a liveliness token held by each move sender while it lives
   (``<id>``: the hex publisher id in its moves' attachments); a bridge runs only moves of live senders.
@@ -17,9 +18,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import zenoh
-
-from .errors import AcquisitionError, zenoh_reason
+from .errors import AcquisitionError
 
 DEFAULT_PREFIX = "axisflow"
 DEFAULT_AXIS = "a0"
@@ -93,16 +92,6 @@ def all_keys(prefix: str = DEFAULT_PREFIX) -> str:
     """The key expression matching every key under ``prefix`` (``axisflow/**``)."""
     _check_chunk("key prefix", prefix, allow_slash=True)
     return f"{prefix}/**"
-
-
-def check_key_expression(expr: str, option: str = "--keys") -> zenoh.KeyExpr:
-    """``expr`` as a Zenoh key expression, or a :class:`KeyExprError` naming it."""
-    try:
-        return zenoh.KeyExpr(expr)
-    except zenoh.ZError as exc:
-        raise KeyExprError(
-            f"{option} {expr!r} is not a valid Zenoh key expression: {zenoh_reason(exc)}"
-        ) from None
 
 
 def topic_for_key(key: str) -> str:

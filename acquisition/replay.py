@@ -22,10 +22,11 @@ from pathlib import Path
 import zenoh
 
 from .errors import AcquisitionError
-from .keys import check_key_expression, key_for_topic
+from .keys import key_for_topic
 from .messages import MOVE_TYPE
 from .publisher import SequencedPublisher, Traffic, wait_for_subscribers
 from .recording import iter_recording
+from .zenoh_config import check_key_expression
 
 
 @dataclass(frozen=True)

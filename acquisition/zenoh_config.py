@@ -18,6 +18,7 @@ from pathlib import Path
 import zenoh
 
 from .errors import ZenohConfigError, zenoh_reason
+from .keys import KeyExprError
 
 DEFAULT_ENDPOINT = "tcp/127.0.0.1:7447"
 LOOPBACK_ANY_PORT = "tcp/127.0.0.1:0"
@@ -101,3 +102,13 @@ def open_session(options: ZenohOptions) -> zenoh.Session:
         return zenoh.open(config)
     except zenoh.ZError as exc:
         raise ZenohConfigError(f"cannot open a zenoh session ({options}): {zenoh_reason(exc)}") from None
+
+
+def check_key_expression(expr: str, option: str = "--keys") -> zenoh.KeyExpr:
+    """``expr`` as a Zenoh key expression, or a :class:`KeyExprError` naming it."""
+    try:
+        return zenoh.KeyExpr(expr)
+    except zenoh.ZError as exc:
+        raise KeyExprError(
+            f"{option} {expr!r} is not a valid Zenoh key expression: {zenoh_reason(exc)}"
+        ) from None

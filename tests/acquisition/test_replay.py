@@ -12,9 +12,9 @@ from axisflow.acquisition import (
     MoveCommand,
     ZenohOptions,
     open_session,
-    replay,
 )
 from axisflow.acquisition.mcap_writer import Ros2McapWriter
+from axisflow.acquisition.replay import replay
 
 T0 = 1_700_000_000_000_000_000
 MS = 1_000_000

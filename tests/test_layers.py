@@ -1,0 +1,151 @@
+"""The layers of the README hold: every import (module level or inside a function) points down, and
+the records-and-logs layer loads no zenoh."""
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+# package folder → its layer; axisflow/*.py are the top-level modules ("top"), axisflow/cli the CLI
+FOLDERS = {
+    "model": "model",
+    "planner": "planner",
+    "acquisition": "acquisition",
+    "identification": "identification",
+    "viz": "viz",
+    "benchmarks": "benchmarks",
+    "axisflow/cli": "cli",
+    "axisflow": "top",
+}
+# what each layer may import (besides itself); the README's layout table says the same
+ALLOWED = {
+    "model": set(),
+    "planner": {"model"},
+    "acquisition": {"model"},
+    "identification": {"model", "acquisition"},
+    "viz": {"model", "planner", "acquisition", "identification"},
+    "top": {"model", "planner", "acquisition", "identification", "viz"},
+    "benchmarks": {"model", "planner", "acquisition", "identification", "viz", "top"},
+    "cli": {"model", "planner", "acquisition", "identification", "viz", "top", "benchmarks"},
+}
+# the sub-package a dotted name under axisflow belongs to
+SUBPACKAGES = {
+    "model": "model",
+    "planner": "planner",
+    "acquisition": "acquisition",
+    "identification": "identification",
+    "viz": "viz",
+    "benchmarks": "benchmarks",
+    "cli": "cli",
+}
+# acquisition's network layer: the only acquisition modules that may use zenoh
+NETWORK = {"bridge", "move_intake", "move_sender", "publisher", "recorder", "replay", "zenoh_config"}
+
+
+def _modules() -> list[tuple[Path, str, str]]:
+    """(file, dotted module name, layer) of every module of the package."""
+    out = []
+    for folder, layer in FOLDERS.items():
+        base = ROOT / folder
+        pattern = "*.py" if folder == "axisflow" else "**/*.py"
+        for path in sorted(base.glob(pattern)):
+            rel = path.relative_to(base).with_suffix("")
+            package = "axisflow" if folder == "axisflow" else f"axisflow.{folder.split('/')[-1]}"
+            parts = [p for p in rel.parts if p != "__init__"]
+            # `python -m axisflow` is the command line's entry point
+            out.append((path, ".".join([package, *parts]), "cli" if path.name == "__main__.py" else layer))
+    return out
+
+
+def _layer_of(dotted: str) -> str | None:
+    parts = dotted.split(".")
+    if parts[0] != "axisflow":
+        return None
+    if len(parts) == 1:
+        return "top"
+    return SUBPACKAGES.get(parts[1], "top")
+
+
+def _imports(path: Path, module: str) -> list[tuple[int, str]]:
+    """(line, absolute dotted target) of every import in a file."""
+    tree = ast.parse(path.read_text("utf-8"))
+    package = module if path.name == "__init__.py" else module.rsplit(".", 1)[0]
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            found += [(node.lineno, alias.name) for alias in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")
+                base = base[: len(base) - (node.level - 1)]
+                target = ".".join(base + ([node.module] if node.module else []))
+            else:
+                target = node.module or ""
+            found.append((node.lineno, target))
+            found += [(node.lineno, f"{target}.{alias.name}") for alias in node.names]
+    return found
+
+
+def test_every_import_points_down_the_layers():
+    wrong = []
+    modules = _modules()
+    assert len(modules) > 40  # the walk found the package
+    for path, module, layer in modules:
+        for line, target in _imports(path, module):
+            target_layer = _layer_of(target)
+            if target_layer is None or target_layer == layer:
+                continue
+            if target_layer not in ALLOWED[layer]:
+                wrong.append(f"{path.relative_to(ROOT)}:{line} ({layer}) imports {target} ({target_layer})")
+    assert not wrong, "\n".join(wrong)
+
+
+def test_only_the_network_modules_of_acquisition_touch_zenoh():
+    wrong = []
+    for path, module, layer in _modules():
+        name = module.rsplit(".", 1)[-1]
+        if layer != "acquisition" or name in NETWORK or path.name == "__init__.py":
+            continue
+        for line, target in _imports(path, module):
+            network_module = target.startswith("axisflow.acquisition.") and target.split(".")[2] in NETWORK
+            if target.split(".")[0] == "zenoh" or network_module:
+                wrong.append(f"{path.relative_to(ROOT)}:{line} imports {target}")
+    assert not wrong, "\n".join(wrong)
+
+
+@pytest.mark.parametrize(
+    "modules",
+    [
+        ["axisflow.acquisition"],
+        [
+            "axisflow.acquisition.recording",
+            "axisflow.acquisition.recover",
+            "axisflow.acquisition.messages",
+            "axisflow.acquisition.sim_axis",
+            "axisflow.acquisition.move_queue",
+        ],
+        ["axisflow.identification", "axisflow.viz"],
+    ],
+)
+def test_reading_logs_does_not_load_zenoh(modules):
+    loaded = "sorted(m for m in sys.modules if m.split('.')[0] == 'zenoh')"
+    code = f"import sys, {', '.join(modules)}; print({loaded})"
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True
+    )
+    assert out.stdout.strip() == "[]", out.stdout
+
+
+def test_the_network_layer_is_loaded_on_first_use():
+    code = (
+        "import sys, axisflow.acquisition as a; before = 'zenoh' in sys.modules; a.MoveSender; "
+        "print(before, 'zenoh' in sys.modules)"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True
+    )
+    assert out.stdout.split() == ["False", "True"]
