@@ -1,8 +1,9 @@
 """The exception root of acquisition.
 
 Every user-caused acquisition error is an :class:`AcquisitionError` (itself an
-:class:`axisflow.model.AxisflowError`), so the command line prints it without a traceback. The
-subclasses also derive from the matching builtin, so ``except ValueError`` / ``except OSError`` work.
+:class:`axisflow.model.AxisflowError`), so the command line prints it without a traceback. A subclass
+derives from a builtin only where it truly is one (a bad value: ``ValueError``); a recording error is
+not an ``OSError``, so a generic ``except OSError`` never swallows it.
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ class ZenohConfigError(AcquisitionError, ValueError):
     """The Zenoh options or configuration file are invalid."""
 
 
-class RecordingError(AcquisitionError, OSError):
+class RecordingError(AcquisitionError):
     """An MCAP recording cannot be written, read or recovered."""
 
 

@@ -9,17 +9,20 @@ file holds everything up to the last flush (read it with a streaming reader or
 
 from __future__ import annotations
 
+import logging
 import os
 import tempfile
+from importlib.metadata import version as package_version
 from pathlib import Path
 from typing import BinaryIO
 
 from mcap.data_stream import RecordBuilder
 from mcap.writer import CompressionType, Writer
 
-from .. import __version__
 from .errors import RecordingError
 from .messages import SCHEMAS
+
+log = logging.getLogger(__name__)
 
 COMPRESSIONS = {"zstd": CompressionType.ZSTD, "lz4": CompressionType.LZ4, "none": CompressionType.NONE}
 DEFAULT_CHUNK_SIZE = 512 * 1024
@@ -27,7 +30,7 @@ DEFAULT_CHUNK_SIZE = 512 * 1024
 (p99 stamp→write at 32 kHz, measured: 2.7 ms with 256 KiB, 4.4 ms with 512 KiB, 26 ms with 4 MiB) at
 the cost of ~3 % larger files and more chunk indexes (kept on disk until the summary, see
 :class:`_ChunkIndexSpill`)."""
-LIBRARY = f"axisflow {__version__}"
+LIBRARY = f"axisflow {package_version('axisflow')}"
 
 # rosbag2's default QoS for a reliable, volatile, keep-last publisher, as YAML
 OFFERED_QOS_PROFILES = """- history: 3
@@ -133,7 +136,7 @@ class _SerializedRecords:
         self.data = data
 
     def write(self, builder: RecordBuilder) -> None:
-        builder._buffer.write(self.data)
+        builder.write(self.data)
 
 
 class _ChunkIndexSpill:
@@ -144,7 +147,10 @@ class _ChunkIndexSpill:
     would grow with the session (~1.5 MB/min at 32 axes, measured). After each flush the indexes are
     serialized to an anonymous temporary file (deleted by the OS even on SIGKILL) and dropped; at
     ``finish()`` they come back as one block of bytes, written into the summary unchanged.
-    Relies on the writer's private list (mcap 1.6); without it, nothing is spilled.
+    This needs one private attribute of mcap's ``Writer``, its list of chunk indexes (there is no public
+    way to hand the summary pre-serialized indexes): mcap is pinned to 1.6.x in pyproject.toml, a
+    writer without the list logs a warning (the recording stays correct, only its memory grows), and
+    tests/acquisition/test_mcap_writer.py fails on an mcap whose writer no longer has it.
     """
 
     _ATTR = "_Writer__chunk_indices"
@@ -154,6 +160,12 @@ class _ChunkIndexSpill:
         self._file: BinaryIO | None = None
         if isinstance(getattr(writer, self._ATTR, None), list):
             self._file = tempfile.TemporaryFile(dir=directory, prefix=".axisflow-chunk-index-")  # noqa: SIM115
+        else:
+            log.warning(
+                "this mcap version's Writer has no %s list: chunk indexes stay in memory until the "
+                "recording ends (axisflow is tested with mcap 1.6)",
+                self._ATTR,
+            )
 
     def spill(self) -> None:
         if self._file is None:
@@ -164,7 +176,7 @@ class _ChunkIndexSpill:
         builder = RecordBuilder()
         for index in indexes:
             index.write(builder)
-        self._file.write(builder._buffer.getvalue())
+        self._file.write(builder.end())
         indexes.clear()
 
     def restore(self) -> None:

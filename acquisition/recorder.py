@@ -33,13 +33,15 @@ import zenoh
 from .attachment import unpack_attachment
 from .errors import RecordingError
 from .histogram import DurationHistogram, DurationStats
-from .keys import all_keys, check_key_expression, topic_for_key
+from .keys import all_keys, topic_for_key
 from .mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE, Ros2McapWriter
 from .publisher import mcap_encoding_of
+from .zenoh_config import check_key_expression
 
 log = logging.getLogger(__name__)
 
 DEFAULT_QUEUE_CAPACITY = 1 << 16
+"""samples the receive channel holds before it applies back-pressure"""
 _IDLE_SLEEP_S = 0.0005
 LIVE_STAMP_WINDOW_NS = 1_000_000_000
 """a stamp further than this from the wall clock is not live (e.g. a replay): no latency from it"""
@@ -72,25 +74,28 @@ class RecorderConfig:
                 raise RecordingError(f"recorder {name} = {value} {unit} must be > 0 {unit}")
         if Path(self.output).suffix != ".mcap":
             raise RecordingError(f"output {self.output} must end in .mcap")
-        parent = Path(self.output).parent
-        if not parent.is_dir():
-            raise RecordingError(f"output directory {parent} does not exist")
-        if not self.overwrite:
-            out = Path(self.output)
-            split = self.split_bytes is not None or self.split_duration_s is not None
-            existing = (
-                sorted(out.parent.glob(f"{out.stem}_[0-9][0-9][0-9][0-9]{out.suffix}")) if split else []
-            )
-            if not split and out.exists():
-                existing = [out]
-            if existing:
-                raise RecordingError(
-                    f"output {existing[0]} already exists"
-                    + (f" (and {len(existing) - 1} more split files)" if len(existing) > 1 else "")
-                    + ": choose another name or pass --overwrite"
-                )
         # before any file is opened: a bad expression must not leave an empty recording behind
         check_key_expression(self.keys)
+
+
+def check_outputs(config: RecorderConfig) -> None:
+    """Refuse to start when the output's directory is missing or (without ``overwrite``) the output,
+    or one of its split files, exists already."""
+    out = Path(config.output)
+    if not out.parent.is_dir():
+        raise RecordingError(f"output directory {out.parent} does not exist")
+    if config.overwrite:
+        return
+    split = config.split_bytes is not None or config.split_duration_s is not None
+    existing = sorted(out.parent.glob(f"{out.stem}_[0-9][0-9][0-9][0-9]{out.suffix}")) if split else []
+    if not split and out.exists():
+        existing = [out]
+    if existing:
+        raise RecordingError(
+            f"output {existing[0]} already exists"
+            + (f" (and {len(existing) - 1} more split files)" if len(existing) > 1 else "")
+            + ": choose another name or pass --overwrite"
+        )
 
 
 @dataclass
@@ -184,6 +189,8 @@ class Recorder:
     """Records ``config.keys`` from a session until stopped (see the module docstring)."""
 
     def __init__(self, config: RecorderConfig) -> None:
+        """Checks the outputs (:func:`check_outputs`) before anything is opened."""
+        check_outputs(config)
         self.config = config
         self.summary = RecordSummary(keys=config.keys)
         self._split = config.split_bytes is not None or config.split_duration_s is not None
@@ -200,8 +207,6 @@ class Recorder:
         self._file_index += 1
         try:
             writer = Ros2McapWriter(path, self.config.compression, self.config.chunk_size)
-        except RecordingError:
-            raise
         except OSError as exc:  # e.g. no room for the chunk-index spill file
             raise RecordingError(f"cannot start {path}: {exc.strerror or exc}") from None
         self.summary.files.append(path)
@@ -284,8 +289,6 @@ class Recorder:
                         break
                     if sample is None:
                         time.sleep(_IDLE_SLEEP_S)
-        except RecordingError:
-            raise
         except OSError as exc:  # a full disk, a file system gone read-only
             failure = exc
         finally:

@@ -9,8 +9,9 @@ from pathlib import Path
 from .model import AxisflowError
 
 
-class OutputError(AxisflowError, OSError):
-    """An output location cannot be written."""
+class OutputError(AxisflowError):
+    """An output location cannot be written (not an ``OSError``: a generic ``except OSError`` must not
+    swallow it)."""
 
 
 def ensure_dir(path: str | Path) -> Path:

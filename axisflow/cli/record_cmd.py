@@ -8,7 +8,7 @@ from pathlib import Path
 
 from ..acquisition.keys import all_keys
 from ..acquisition.mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE
-from ..acquisition.recorder import Recorder, RecorderConfig
+from ..acquisition.recorder import DEFAULT_QUEUE_CAPACITY, Recorder, RecorderConfig
 from ..acquisition.shutdown import stop_on_signals
 from ..acquisition.zenoh_config import open_session
 from ..arguments import finite_float, positive_int
@@ -61,7 +61,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         help=f"MCAP chunk size before compression (default {DEFAULT_CHUNK_SIZE // 1024} KiB)",
     )
     p.add_argument(
-        "--queue", type=positive_int, default=1 << 16, metavar="N", help="receive queue capacity (messages)"
+        "--queue",
+        type=positive_int,
+        default=DEFAULT_QUEUE_CAPACITY,
+        metavar="N",
+        help=f"receive queue capacity (messages, default {DEFAULT_QUEUE_CAPACITY})",
     )
     p.add_argument("--json", action="store_true", help="print the summary as one JSON object")
     p.add_argument(
