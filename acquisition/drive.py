@@ -1,9 +1,9 @@
 """The drive interface: what the bridge needs from an axis drive, simulated or real.
 
-A drive runs a fixed-period cycle (1 ms). Each cycle the bridge :meth:`Drive.read` s the sample of
-the current tick, then :meth:`Drive.apply` s the setpoint for it, which lets the drive advance to the
-next tick. A real drive (e.g. CiA 402 cyclic synchronous position mode with velocity and torque
-offsets) implements the same two calls.
+A drive runs a fixed-period cycle (1 ms, :data:`axisflow.model.EXECUTION_PERIOD_NS`). Each cycle the
+bridge :meth:`Drive.read` s the sample of the current tick, then :meth:`Drive.apply` s the setpoint for
+it, which lets the drive advance to the next tick. A real drive (e.g. CiA 402 cyclic synchronous
+position mode with velocity and torque offsets) implements the same two calls.
 """
 
 from __future__ import annotations
@@ -13,9 +13,6 @@ from typing import Protocol
 
 from ..model import AxisParams, motor_angle, motor_speed, motor_torque
 from .messages import AxisSample
-
-DRIVE_PERIOD_NS = 1_000_000
-"""One drive tick: 1 ms (1 kHz); sample stamps advance by exactly this much."""
 
 
 @dataclass(frozen=True)

@@ -30,10 +30,10 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
-from ..model import AxisflowError, AxisParams
+from ..model import EXECUTION_PERIOD_NS, EXECUTION_PERIOD_S, AxisflowError, AxisParams
 from ..model.params import params_from_mapping
 from ..model.toml_file import read_toml
-from .drive import DRIVE_PERIOD_NS, Setpoint
+from .drive import Setpoint
 from .errors import PlantError
 from .messages import AxisSample
 
@@ -169,6 +169,14 @@ def load_plant(path: str | Path | None, nominal: AxisParams) -> PlantConfig:
     return plant_from_mapping(data, nominal, source)
 
 
+def moving_friction(v: float, p: AxisParams) -> float:
+    """Friction force [N] on the moving cart (v ≠ 0): the model's law
+    (:func:`axisflow.model.friction_force`) in scalar ``math`` form, because the integrator calls it
+    4000 times per second of drive time and numpy on scalars costs several times more
+    (tests/acquisition/test_sim_axis.py checks this copy against the model's)."""
+    return p.a1 * math.copysign(1.0, v) + p.a2 * v + p.a3 * math.atan(p.a4 * v)
+
+
 class SimulatedAxis:
     """A :class:`~axisflow.acquisition.drive.Drive` backed by the integrated plant (see module doc)."""
 
@@ -184,12 +192,10 @@ class SimulatedAxis:
         self._start_ns = start_stamp_ns
         p = plant.axis
         self._M = p.M_eq
-        self._dt = DRIVE_PERIOD_NS * 1e-9 / plant.simulation.substeps
+        self._dt = EXECUTION_PERIOD_S / plant.simulation.substeps
         self._substeps = plant.simulation.substeps
         self._m_per_count = 2.0 * math.pi * p.r / plant.encoder.counts_per_rev
-        self._alpha_v = 1.0 - math.exp(
-            -2.0 * math.pi * plant.encoder.velocity_filter_hz * DRIVE_PERIOD_NS * 1e-9
-        )
+        self._alpha_v = 1.0 - math.exp(-2.0 * math.pi * plant.encoder.velocity_filter_hz * EXECUTION_PERIOD_S)
         w = 2.0 * math.pi * plant.controller.bandwidth_hz
         self.kp_n_m = nominal.M_eq * w * w
         self.kd_n_s_m = 2.0 * plant.controller.damping * w * nominal.M_eq
@@ -208,8 +214,8 @@ class SimulatedAxis:
     @property
     def stamp_ns(self) -> int:
         if self._start_ns is None:
-            self._start_ns = -(-time.time_ns() // DRIVE_PERIOD_NS) * DRIVE_PERIOD_NS
-        return self._start_ns + self.tick * DRIVE_PERIOD_NS
+            self._start_ns = -(-time.time_ns() // EXECUTION_PERIOD_NS) * EXECUTION_PERIOD_NS
+        return self._start_ns + self.tick * EXECUTION_PERIOD_NS
 
     def read(self) -> AxisSample:
         p = self.nominal
@@ -238,7 +244,7 @@ class SimulatedAxis:
         self._integrate(tau)
         self.tick += 1
         x_new = self._encoder(self.position_m)
-        v_raw = (x_new - self._x_meas) / (DRIVE_PERIOD_NS * 1e-9)
+        v_raw = (x_new - self._x_meas) / (EXECUTION_PERIOD_S)
         self._v_meas += self._alpha_v * (v_raw - self._v_meas)
         self._x_meas = x_new
 
@@ -253,7 +259,7 @@ class SimulatedAxis:
                 direction = 1.0 if force > 0.0 else -1.0
                 v = (force - p.a1 * direction) / M * dt
             else:
-                friction = p.a1 * math.copysign(1.0, v) + p.a2 * v + p.a3 * math.atan(p.a4 * v)
+                friction = moving_friction(v, p)
                 v_next = v + (force - friction) / M * dt
                 v = 0.0 if v_next * v < 0.0 else v_next
             x += v * dt

@@ -134,3 +134,15 @@ def test_tracks_a_move_and_comes_to_rest_at_its_end():
     assert ax.position_m == pytest.approx(0.6, abs=5e-4)
     assert ax.velocity_m_s == 0.0
     assert max(torques) <= params.tau_max + 0.1  # measured torque: saturated command + noise
+
+
+def test_the_plants_scalar_friction_is_the_models_law():
+    import numpy as np
+    from axisflow.acquisition.sim_axis import moving_friction
+    from axisflow.model import default_params, friction_force
+
+    p = default_params().replace(a1=61.0, a2=190.0, a3=150.0, a4=9.0)
+    v = np.array([-1.3, -0.2, -1e-3, -1e-6, 1e-6, 1e-3, 0.2, 1.3])
+    assert [moving_friction(float(x), p) for x in v] == pytest.approx(
+        friction_force(v, p).tolist(), rel=1e-15
+    )
