@@ -30,13 +30,24 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("x0", type=finite_float, help="start position [m], in [0, L]")
     p.add_argument("x1", type=finite_float, help="end position [m], in [0, L]")
-    p.add_argument("--law", choices=POLY_LAWS + REFERENCE_LAWS, default="poly5")
-    p.add_argument("--case", choices=[c.value for c in Case], default=Case.MIN_TIME.value)
+    p.add_argument(
+        "--law",
+        choices=POLY_LAWS + REFERENCE_LAWS,
+        default="poly5",
+        help="motion law: a rest-to-rest polynomial, or a reference law of the physical limit (bang: "
+        "bang–cruise–bang minimum time; least-energy: the least-energy profile) (default: poly5)",
+    )
+    p.add_argument(
+        "--case",
+        choices=[c.value for c in Case],
+        default=Case.MIN_TIME.value,
+        help="objective: minimum time (eq. 2) or minimum ω·T + (1 − ω)·E (eq. 3) (default: min-time)",
+    )
     p.add_argument(
         "--omega",
         type=finite_float,
         default=DEFAULT_OMEGA,
-        help="time weight ω of the min-time-energy case, in [0, 1] (default 0.9)",
+        help=f"time weight ω of the min-time-energy case, in [0, 1] (default {DEFAULT_OMEGA})",
     )
     p.add_argument("--t-min", type=finite_float, default=None, metavar="S", help="lower duration bound [s]")
     p.add_argument("--t-max", type=finite_float, default=None, metavar="S", help="upper duration bound [s]")
@@ -112,7 +123,7 @@ def run(args: argparse.Namespace) -> int:
             "solve_time_ms": r.solve_time_s * 1e3,
             "max_violation": r.max_violation,
             "message": r.message,
-            "certificate": r.certificate,
+            "certificate": r.certificate.to_dict() if r.certificate is not None else {},
         }
     if args.json:
         print(json.dumps(out))

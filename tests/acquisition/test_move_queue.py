@@ -1,5 +1,7 @@
 """Move validation (table of rejections) and queue timing (no idle tick between queued moves)."""
 
+import math
+
 import pytest
 from axisflow.acquisition import MoveCommand, MoveQueue, MoveRejectedError
 from axisflow.model import AxisParams
@@ -66,66 +68,18 @@ def test_timed_start_holds_until_its_stamp():
     assert queue.setpoint(101).position_m > 0.2
 
 
-def test_feed_forward_matches_eq1():
-    from axisflow.model import cart_force
-
-    params = PARAMS
-    queue = MoveQueue(params, 0.2, T0, "a0")
+def test_feed_forward_is_eq1_of_the_poly5_sample():
+    """The setpoint of tick 300 of a 1 s poly5 move 0.2 → 0.6 m, and its feed-forward force, written
+    out by hand (x = x0 + d·(10u³ − 15u⁴ + 6u⁵), eq. (1) with the test axis's numbers)."""
+    queue = MoveQueue(PARAMS, 0.2, T0, "a0")
     queue.submit(_move(0.2, 0.6, 1.0), 0)
     sp = queue.setpoint(300)
-    assert sp.force_ff_n == pytest.approx(float(cart_force(sp.velocity_m_s, sp.acceleration_m_s2, params)))
-
-
-def test_a_move_shorter_than_a_tick_is_checked_along_its_course():
-    """At 1 kHz alone a 1 ms move has samples at 0 and 1 ms, where it is at rest; its torque peaks
-    between them."""
-    from axisflow.model import Move, check_limits, polynomial_law
-
-    queue = MoveQueue(PARAMS, 0.2, T0, "a0")
-    cmd = _move(0.2, 0.2003, 0.001)  # peak velocity 0.56 m/s: within v_max
-    sampled = check_limits(Move(0.2, 0.2003, 0.001, polynomial_law("poly5")), PARAMS)
-    assert sampled.samples == 2 and sampled.peak_torque_nm == 0.0  # what 1 kHz alone sees
-    with pytest.raises(MoveRejectedError, match=r"peak motor torque \d+\.?\d* N·m exceeds tau_max = 3.0 N·m"):
-        queue.submit(cmd, 0)
-
-
-def test_moves_longer_than_an_hour_are_refused():
-    queue = MoveQueue(PARAMS, 0.2, T0, "a0")
-    with pytest.raises(MoveRejectedError, match=r"duration_s = 3700.0 s exceeds the longest move, 3600 s"):
-        queue.submit(_move(0.2, 0.3, 3700.0), 0)
-
-
-def test_a_gone_sender_loses_its_moves_not_started_and_those_queued_after_them():
-    queue = MoveQueue(PARAMS, 0.2, T0, "a0")
-    a, b = b"A" * 16, b"B" * 16
-    queue.submit(_move(0.2, 0.4, 1.0, move_id=1), 0, a)  # ticks 0..1000
-    queue.submit(_move(0.4, 0.5, 1.0, move_id=2), 0, b)  # 1000..2000
-    queue.submit(_move(0.5, 0.3, 1.0, move_id=3), 0, a)  # 2000..3000
-    queue.submit(_move(0.3, 0.6, 1.0, move_id=4), 0, b)  # 3000..4000
-    assert queue.drop_sender(b"C" * 16, 10) == []
-    dropped = queue.drop_sender(a, 500)  # move 1 runs: kept; move 3 and what follows it: dropped
-    assert [q.command.move_id for q in dropped] == [3, 4]
-    assert len(queue) == 2 and queue.end_position_m == pytest.approx(0.5)
-    dropped = queue.drop_sender(b, 1000)  # move 2 starts at tick 1000, not yet run: dropped
-    assert [q.command.move_id for q in dropped] == [2]
-    assert queue.end_position_m == pytest.approx(0.4)
-    assert [queue.setpoint(k).position_m for k in (999, 1000, 1500)] == [
-        pytest.approx(0.4, abs=1e-8),  # the last in-motion sample of move 1
-        0.4,  # then the axis holds at its end
-        0.4,
-    ]
-
-
-def test_the_queue_holds_a_bounded_number_of_moves(monkeypatch):
-    monkeypatch.setattr("axisflow.acquisition.move_queue.MAX_QUEUED_MOVES", 3)
-    queue = MoveQueue(PARAMS, 0.2, T0, "a0")
-    for k in range(3):
-        x0, x1 = (0.2, 0.3) if k % 2 == 0 else (0.3, 0.2)
-        queue.submit(_move(x0, x1, 0.5, move_id=k), 0)
-    with pytest.raises(MoveRejectedError, match=r"move 9: the queue is full \(3 moves\)"):
-        queue.submit(_move(0.3, 0.2, 0.5, move_id=9), 0)
-
-
-def test_a_negative_jump_tolerance_is_refused():
-    with pytest.raises(MoveRejectedError, match=r"jump tolerance = -1.0 m must be >= 0 m"):
-        MoveQueue(PARAMS, 0.2, T0, "a0", jump_tolerance_m=-1.0)
+    u, d, T = 0.3, 0.4, 1.0
+    x = 0.2 + d * (10 * u**3 - 15 * u**4 + 6 * u**5)
+    v = d / T * (30 * u**2 - 60 * u**3 + 30 * u**4)
+    a = d / T**2 * (60 * u - 180 * u**2 + 120 * u**3)
+    m_eq = 20.0 + ((1.5e-4 + 5e-5) * 10.0**2 + 2 * 2e-4) / 0.03**2  # m + ((J_m + J_g)·i_r² + 2·J_p)/r²
+    force = m_eq * a + 100.0 * 1.0 + 50.0 * v + 20.0 * math.atan(50.0 * v)
+    assert (sp.position_m, sp.velocity_m_s, sp.acceleration_m_s2) == pytest.approx((x, v, a), rel=1e-12)
+    assert sp.force_ff_n == pytest.approx(force, rel=1e-12)
+    assert queue.setpoint(1000).velocity_m_s == 0.0 and queue.setpoint(1000).force_ff_n == 0.0  # at rest

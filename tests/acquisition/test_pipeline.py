@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from axisflow.acquisition import SCHEMAS
 from axisflow.model import default_params
 
 N_SECONDS = 2
@@ -21,19 +22,32 @@ SETPOINT = "/axisflow/a0/setpoint"
 
 @pytest.fixture(scope="module")
 def recording(cli, tmp_path_factory):
-    out = tmp_path_factory.mktemp("pipeline") / "run.mcap"
+    """A bridge whose axis starts at 0.3 m (so positions are not zero) runs one move 0.3 → 0.6 m."""
+    from axisflow.acquisition import AxisKeys, MoveSender, ZenohOptions, open_session
+
+    tmp = tmp_path_factory.mktemp("pipeline")
+    out = tmp / "run.mcap"
+    plant = tmp / "plant.toml"
+    plant.write_text("[scale]\nm = 1.05\n\n[simulation]\ninitial_position_m = 0.3\n")
     port = cli.free_port()
     rec = cli.start("record", "-o", str(out), "--listen", f"tcp/127.0.0.1:{port}")
     cli.wait_for_file(out)
-    bridge = cli.run(
-        "bridge", "--sim", "--connect", f"tcp/127.0.0.1:{port}", "--duration", str(N_SECONDS),
-        "--speed", "1", "--wait-subscribers", "10",
+    bridge = cli.start(
+        "bridge", "--sim", "--plant", str(plant), "--connect", f"tcp/127.0.0.1:{port}",
+        "--duration", str(N_SECONDS), "--speed", "1", "--wait-subscribers", "10",
     )  # fmt: skip
-    assert bridge.returncode == 0, bridge.stderr
+    with (
+        open_session(ZenohOptions.loopback(connect_port=port)) as planner,
+        MoveSender(planner, AxisKeys()) as sender,
+    ):
+        assert sender.wait_for_bridge(20.0)
+        sender.send(0.3, 0.6, 0.8, law="poly5")
+        bridge_out, bridge_err = cli.finish(bridge)
+    assert bridge.returncode == 0, bridge_err
     rec.send_signal(signal.SIGINT)
     rec_out, rec_err = cli.finish(rec)
     assert rec.returncode == 0, rec_err
-    return {"path": out, "bridge": bridge.stdout, "recorder": rec_out, "port": port}
+    return {"path": out, "bridge": bridge_out, "recorder": rec_out, "port": port}
 
 
 def test_state_topic_has_every_tick_one_ms_apart(cli, recording):
@@ -49,7 +63,12 @@ def test_state_topic_has_every_tick_one_ms_apart(cli, recording):
 
 def test_values_decode_to_the_two_joint_contract(cli, recording):
     params = default_params()
-    for _m, d in cli.decoded(recording["path"], STATE)[::97]:
+    states = cli.decoded(recording["path"], STATE)
+    positions = np.array([d.position[0] for _m, d in states])
+    speeds = np.array([d.velocity[0] for _m, d in states])
+    assert positions.min() == pytest.approx(0.3, abs=1e-3) and positions.max() == pytest.approx(0.6, abs=2e-3)
+    assert np.abs(speeds).max() > 0.5  # the move ran: the joint relations below are checked in motion
+    for _m, d in states[::97]:
         assert d.header.frame_id == "a0"
         assert d.name == ["carriage", "motor"]
         x, theta = d.position
@@ -62,7 +81,9 @@ def test_values_decode_to_the_two_joint_contract(cli, recording):
         assert abs(torque) <= params.tau_max + 0.1
     setpoints = cli.decoded(recording["path"], SETPOINT)
     assert abs(len(setpoints) - N_SECONDS * 1000) <= 1
-    assert all(d.name == ["carriage", "motor"] and d.velocity[0] == 0.0 for _m, d in setpoints[::50])
+    assert all(d.name == ["carriage", "motor"] for _m, d in setpoints[::50])
+    moving = [d for _m, d in setpoints if d.velocity[0] != 0.0]
+    assert 795 <= len(moving) <= 800  # the 0.8 s move, sampled at 1 kHz (its two ends at rest)
 
 
 def test_bridge_reports_period_jitter(recording):
@@ -77,13 +98,17 @@ def test_file_is_ros2_profile_with_schemas_and_qos(recording):
         reader = make_reader(fh)
         assert reader.get_header().profile == "ros2"
         summary = reader.get_summary()
+    expected = {
+        STATE: "sensor_msgs/msg/JointState",
+        SETPOINT: "sensor_msgs/msg/JointState",
+        "/axisflow/a0/trajectory": "axisflow_msgs/msg/Move",
+        "/axisflow/a0/event": "axisflow_msgs/msg/MoveStatus",
+    }
+    assert {ch.topic: summary.schemas[ch.schema_id].name for ch in summary.channels.values()} == expected
     for ch in summary.channels.values():
         schema = summary.schemas[ch.schema_id]
-        assert (ch.message_encoding, schema.encoding, schema.name) == (
-            "cdr",
-            "ros2msg",
-            "sensor_msgs/msg/JointState",
-        )
+        assert (ch.message_encoding, schema.encoding) == ("cdr", "ros2msg")
+        assert schema.data.decode() == SCHEMAS[schema.name]
         assert "offered_qos_profiles" in ch.metadata
     assert all(ci.compression == "zstd" for ci in summary.chunk_indexes)
 

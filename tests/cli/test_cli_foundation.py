@@ -148,11 +148,39 @@ def test_experiment_into_a_file_path_fails_cleanly_and_writes_nothing(tmp_path, 
     assert f"{target} is not a directory" in capsys.readouterr().err
 
 
-def test_every_subcommand_has_help():
-    for cmd in ("params", "plan", "experiment"):
+def _commands(parser=None, prefix=()):
+    """(command words, parser) of every command and sub-command (e.g. ("bench", "planner"))."""
+    import argparse
+
+    from axisflow.cli import build_parser
+
+    parser = parser or build_parser()
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for name, sub in action.choices.items():
+                yield (*prefix, name), sub
+                yield from _commands(sub, (*prefix, name))
+
+
+def test_every_command_has_help_with_a_description_and_every_option_explained(capsys):
+    commands = dict(_commands())
+    assert {"params", "plan", "experiment", "pareto", "bench", "bridge", "record", "replay", "recover"} <= {
+        words[0] for words in commands
+    }
+    assert ("bench", "planner") in commands and ("bench", "pipeline") in commands
+    for words, parser in commands.items():
         with pytest.raises(SystemExit) as exc:
-            main([cmd, "--help"])
-        assert exc.value.code == 0
+            main([*words, "--help"])
+        assert exc.value.code == 0, words
+        out = capsys.readouterr().out
+        assert out.startswith(f"usage: axisflow {' '.join(words)}"), words
+        assert parser.description, f"axisflow {' '.join(words)} has no description"
+        unexplained = [
+            a.option_strings or a.dest
+            for a in parser._actions
+            if not a.help and not isinstance(a, __import__("argparse")._SubParsersAction)
+        ]
+        assert not unexplained, f"axisflow {' '.join(words)}: options without help: {unexplained}"
 
 
 @pytest.mark.slow
