@@ -28,6 +28,7 @@ from .limits import LimitReport, check_limits, execution_times
 from .motion_laws import (
     MAX_MOVE_DURATION_S,
     POLYNOMIAL_LAWS,
+    Motion,
     Move,
     MoveSamples,
     PolynomialLaw,
@@ -42,6 +43,7 @@ from .sampling import (
     sample_count,
     ticks_to_seconds,
 )
+from .trajectory import SampledTrajectory
 
 __all__ = [
     "EXECUTION_PERIOD_NS",
@@ -54,11 +56,13 @@ __all__ = [
     "AxisflowError",
     "EnergyAccounting",
     "LimitReport",
+    "Motion",
     "Move",
     "MoveError",
     "MoveSamples",
     "ParameterError",
     "PolynomialLaw",
+    "SampledTrajectory",
     "cart_force",
     "cart_force_from_torque",
     "check_limits",

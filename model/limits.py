@@ -8,13 +8,15 @@ relative to the limit: max(|ẋ|/v_max − 1, |τ_m|/tau_max − 1, 0), so 0.01 
 
 from __future__ import annotations
 
+import itertools
+import math
 from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
 
 from .dynamics import cart_force, motor_torque
-from .motion_laws import Move
+from .motion_laws import Motion
 from .params import AxisParams
 from .sampling import EXECUTION_RATE_HZ, sample_count
 
@@ -30,6 +32,10 @@ class LimitReport:
     torque_violation: float
     """max(|τ_m|/tau_max − 1, 0) at the samples"""
     samples: int
+    min_position_m: float
+    max_position_m: float
+    """the range of positions at the samples (a polynomial law stays between its end points; a sampled
+    trajectory need not)"""
 
     @property
     def max_violation(self) -> float:
@@ -65,21 +71,35 @@ def _sample_chunks(duration_s: float, rate_hz: float, min_points: int) -> Iterat
 
 
 def check_limits(
-    move: Move, params: AxisParams, rate_hz: float = EXECUTION_RATE_HZ, min_points: int = 0
+    move: Motion,
+    params: AxisParams,
+    rate_hz: float = EXECUTION_RATE_HZ,
+    min_points: int = 0,
+    extra_times_s: np.ndarray | None = None,
 ) -> LimitReport:
     """Peaks and worst violation of velocity and motor torque at the execution samples.
 
     ``min_points`` > 0 adds that many evenly spaced times over the move to the samples, so a move
     spanning few (or no) execution periods is checked along its course, not only at its two ends
-    (where a rest-to-rest law is at rest).
+    (where a rest-to-rest law is at rest). ``extra_times_s`` are checked too (a sampled trajectory's
+    knots).
     """
     v_peak = tau_peak = 0.0
+    x_lo, x_hi = math.inf, -math.inf
     samples = 0
-    for t in _sample_chunks(move.duration_s, rate_hz, min_points):
+    chunks = _sample_chunks(move.duration_s, rate_hz, min_points)
+    if extra_times_s is not None:
+        extra = np.asarray(extra_times_s, dtype=float)
+        chunks = itertools.chain(
+            chunks, (extra[i : i + _CHUNK_SAMPLES] for i in range(0, extra.size, _CHUNK_SAMPLES))
+        )
+    for t in chunks:
         s = move.sample(t)
         tau = motor_torque(cart_force(s.velocity_m_s, s.acceleration_m_s2, params), params)
         v_peak = max(v_peak, float(np.max(np.abs(s.velocity_m_s))))
         tau_peak = max(tau_peak, float(np.max(np.abs(tau))))
+        x_lo = min(x_lo, float(np.min(s.position_m)))
+        x_hi = max(x_hi, float(np.max(s.position_m)))
         samples += t.size
     return LimitReport(
         peak_velocity_m_s=v_peak,
@@ -87,4 +107,6 @@ def check_limits(
         velocity_violation=max(v_peak / params.v_max - 1.0, 0.0),
         torque_violation=max(tau_peak / params.tau_max - 1.0, 0.0),
         samples=samples,
+        min_position_m=x_lo,
+        max_position_m=x_hi,
     )

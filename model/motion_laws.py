@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Protocol
 
 import numpy as np
 from numpy.polynomial import polynomial as P
@@ -120,6 +121,22 @@ class MoveSamples:
     velocity_m_s: np.ndarray
     acceleration_m_s2: np.ndarray
     jerk_m_s3: np.ndarray
+
+
+class Motion(Protocol):
+    """What a drive can execute: a rest-to-rest motion from ``x0_m`` to ``x1_m`` over ``duration_s``
+    (a polynomial :class:`Move`, a :class:`~axisflow.model.trajectory.SampledTrajectory`)."""
+
+    @property
+    def duration_s(self) -> float: ...
+
+    @property
+    def x0_m(self) -> float: ...
+
+    @property
+    def x1_m(self) -> float: ...
+
+    def sample(self, t_s: ArrayLike) -> MoveSamples: ...
 
 
 @dataclass(frozen=True)
