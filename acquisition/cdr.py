@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import struct
 
+import numpy as np
+
 from .errors import WireError
 
 CDR_LE_HEADER = b"\x00\x01\x00\x00"
@@ -79,6 +81,14 @@ class CdrWriter:
         if values:
             self._align(8)
             self._buf += struct.pack(f"<{len(values)}d", *values)
+
+    def float64_array(self, values: np.ndarray) -> None:
+        """A ``float64[]`` from a numpy array, in one copy."""
+        a = np.ascontiguousarray(values, dtype="<f8")
+        self.uint32(a.size)
+        if a.size:
+            self._align(8)
+            self._buf += a.tobytes()
 
     def to_bytes(self) -> bytes:
         return bytes(self._buf)
@@ -153,6 +163,17 @@ class CdrReader:
     def string_sequence(self) -> tuple[str, ...]:
         n = self._count(4)
         return tuple(self.string() for _ in range(n))
+
+    def float64_array(self) -> np.ndarray:
+        """A ``float64[]`` as a numpy array (a copy, native byte order)."""
+        n = self._count(8)
+        if n == 0:
+            return np.empty(0)
+        self._align(8)
+        self._need(8 * n)
+        values = np.frombuffer(self._data, dtype="<f8", count=n, offset=self._pos).astype(float)
+        self._pos += 8 * n
+        return values
 
     def float64_sequence(self) -> tuple[float, ...]:
         n = self._count(8)

@@ -5,7 +5,8 @@ definition with its dependencies, as rosbag2 stores it) so that any tool decodes
 
 * ``sensor_msgs/msg/JointState`` — :class:`JointState`; the 1 kHz samples and setpoints of an axis,
   with the two joints of :class:`AxisSample` (``carriage``: m, m/s, N; ``motor``: rad, rad/s, N·m).
-* ``axisflow_msgs/msg/Move`` — :class:`MoveCommand`; one rest-to-rest move sent to a drive.
+* ``axisflow_msgs/msg/Move`` — :class:`MoveCommand`; one rest-to-rest move sent to a drive: a
+  polynomial law, or (law ``sampled``) a path given by its :class:`Knots`.
 * ``axisflow_msgs/msg/MoveStatus`` — :class:`~axisflow.acquisition.move_status.MoveStatus`; what a
   bridge did with each move (accepted, rejected with the reason, started, completed, dropped).
 
@@ -17,6 +18,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
+from ..model import SampledTrajectory
 from .cdr import (
     HEADER_DEPENDENCIES,
     CdrReader,
@@ -44,11 +48,18 @@ MOVE_SCHEMA = schema_with_dependencies(
     "uint64 move_id\n"
     "# drive time at which the move starts; 0 s 0 ns = append: start right after the queued moves\n"
     "builtin_interfaces/Time start\n"
-    "# motion law: poly3, poly5 or poly7\n"
+    "# motion law: poly3, poly5, poly7, or sampled (follow the knots below)\n"
     "string law\n"
     "float64 start_position_m\n"
     "float64 end_position_m\n"
-    "float64 duration_s\n",
+    "float64 duration_s\n"
+    "# law sampled: the knots of the path, joined by quintic Hermite pieces: time from the move's\n"
+    "# start [s] (first 0, last duration_s), position [m] (first start_position_m, last end_position_m),\n"
+    "# velocity [m/s] (0 at both ends) and acceleration [m/s^2]. Empty for the polynomial laws.\n"
+    "float64[] knot_t_s\n"
+    "float64[] knot_position_m\n"
+    "float64[] knot_velocity_m_s\n"
+    "float64[] knot_acceleration_m_s2\n",
     *HEADER_DEPENDENCIES,
 )
 
@@ -159,6 +170,37 @@ class AxisSample:
 
 APPEND = 0
 """``MoveCommand.start_ns`` value meaning: start right after the moves already queued."""
+SAMPLED_LAW = "sampled"
+"""``MoveCommand.law`` of a move given by knots (:class:`Knots`) instead of a polynomial law"""
+
+
+@dataclass(frozen=True, eq=False)
+class Knots:
+    """The knots of a sampled move (arrays of equal length; see :data:`MOVE_SCHEMA`)."""
+
+    t_s: np.ndarray
+    position_m: np.ndarray
+    velocity_m_s: np.ndarray
+    acceleration_m_s2: np.ndarray
+
+    @classmethod
+    def of(cls, trajectory: SampledTrajectory) -> Knots:
+        return cls(
+            trajectory.t_s, trajectory.position_m, trajectory.velocity_m_s, trajectory.acceleration_m_s2
+        )
+
+    def arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        return self.t_s, self.position_m, self.velocity_m_s, self.acceleration_m_s2
+
+    def __len__(self) -> int:
+        return int(np.asarray(self.t_s).size)
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Knots):
+            return NotImplemented
+        return all(np.array_equal(a, b) for a, b in zip(self.arrays(), other.arrays(), strict=True))
+
+    __hash__ = None  # type: ignore[assignment]  # mutable arrays: not hashable
 
 
 @dataclass(frozen=True)
@@ -174,6 +216,8 @@ class MoveCommand:
     start_position_m: float
     end_position_m: float
     duration_s: float
+    knots: Knots | None = None
+    """the path of a :data:`SAMPLED_LAW` move; None for a polynomial law"""
 
     def __post_init__(self) -> None:
         for name in ("start_position_m", "end_position_m", "duration_s"):
@@ -199,6 +243,8 @@ class MoveCommand:
         w.float64(self.start_position_m)
         w.float64(self.end_position_m)
         w.float64(self.duration_s)
+        for values in self.knots.arrays() if self.knots is not None else (np.empty(0),) * 4:
+            w.float64_array(values)
         return w.to_bytes()
 
     @classmethod
@@ -208,13 +254,8 @@ class MoveCommand:
         axis = r.string()
         move_id = r.uint64()
         start_ns = read_time(r)
-        return cls(
-            stamp_ns=stamp_ns,
-            axis=axis,
-            move_id=move_id,
-            start_ns=start_ns,
-            law=r.string(),
-            start_position_m=r.float64(),
-            end_position_m=r.float64(),
-            duration_s=r.float64(),
-        )
+        law = r.string()
+        x0, x1, duration = r.float64(), r.float64(), r.float64()
+        arrays = [r.float64_array() for _ in range(4)]
+        knots = Knots(*arrays) if any(a.size for a in arrays) else None
+        return cls(stamp_ns, axis, move_id, start_ns, law, x0, x1, duration, knots)

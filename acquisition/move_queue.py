@@ -4,8 +4,10 @@ Validation happens in two steps, so that the costly one can run off the 1 kHz lo
 
 :func:`validate_move` (stateless, thread-safe) accepts a move only if
 
-* its law is known and its numbers are finite with 0 s < duration ≤ :data:`MAX_MOVE_DURATION_S`;
-* both end positions lie in [0, L] (the polynomial laws do not overshoot their end points);
+* its law is known and its numbers are finite with 0 s < duration ≤ :data:`MAX_MOVE_DURATION_S`; a
+  ``sampled`` move's knots agree with its end points and duration, start and end at rest;
+* both end positions lie in [0, L] (the polynomial laws do not overshoot their end points; a sampled
+  path is checked at every 1 kHz sample and knot);
 * its velocity stays within v_max over the whole move (the law's analytic peak, c_v·|d|/T) and its
   motor torque within tau_max at the 1 kHz execution samples and at :data:`CHECK_POINTS` evenly
   spaced times (so a move shorter than a few ticks is checked along its course, not only at its two
@@ -45,7 +47,9 @@ from ..model import (
     EXECUTION_PERIOD_S,
     AxisflowError,
     AxisParams,
+    Motion,
     Move,
+    SampledTrajectory,
     cart_force,
     check_limits,
     move_ticks,
@@ -53,7 +57,7 @@ from ..model import (
 )
 from .drive import Setpoint
 from .errors import MoveRejectedError
-from .messages import MoveCommand
+from .messages import SAMPLED_LAW, MoveCommand
 
 DEFAULT_JUMP_TOLERANCE_M = 1e-4
 MAX_QUEUED_MOVES = 1024
@@ -62,37 +66,69 @@ CHECK_POINTS = 1001
 """evenly spaced times at which a move's torque is checked besides the 1 kHz samples"""
 
 
-def validate_move(cmd: MoveCommand, params: AxisParams, axis: str = "") -> Move:
-    """The move of ``cmd`` if it is one the axis can run anywhere (see the module doc); raises
+def validate_move(cmd: MoveCommand, params: AxisParams, axis: str = "") -> Motion:
+    """The motion of ``cmd`` if it is one the axis can run anywhere (see the module doc); raises
     :class:`MoveRejectedError` with the reason. Depends on nothing queued: safe off the loop."""
     p = params
     tag = f"move {cmd.move_id}"
     if axis and cmd.axis and cmd.axis != axis:
         raise MoveRejectedError(f"{tag}: addressed to axis {cmd.axis!r}, this drive is {axis!r}")
     try:
-        law = polynomial_law(cmd.law)
-        move = Move(cmd.start_position_m, cmd.end_position_m, cmd.duration_s, law)
+        motion = _sampled_motion(cmd) if cmd.law == SAMPLED_LAW else _polynomial_move(cmd)
     except AxisflowError as exc:
         raise MoveRejectedError(f"{tag}: {exc}") from None
-    for name, x in (("start_position_m", move.x0_m), ("end_position_m", move.x1_m)):
+    for name, x in (("start_position_m", motion.x0_m), ("end_position_m", motion.x1_m)):
         if not 0.0 <= x <= p.L:
             raise MoveRejectedError(f"{tag}: {name} = {x} m is outside the stroke [0, {p.L}] m")
-    if move.peak_velocity_m_s > p.v_max:
+    if isinstance(motion, Move) and motion.peak_velocity_m_s > p.v_max:
         raise MoveRejectedError(
-            f"{tag}: peak velocity {move.peak_velocity_m_s:.6g} m/s exceeds v_max = {p.v_max} m/s"
+            f"{tag}: peak velocity {motion.peak_velocity_m_s:.6g} m/s exceeds v_max = {p.v_max} m/s"
         )
-    report = check_limits(move, p, min_points=CHECK_POINTS)
+    knot_times = motion.t_s if isinstance(motion, SampledTrajectory) else None
+    report = check_limits(motion, p, min_points=CHECK_POINTS, extra_times_s=knot_times)
+    if report.velocity_violation > 0.0:
+        raise MoveRejectedError(
+            f"{tag}: peak velocity {report.peak_velocity_m_s:.6g} m/s exceeds v_max = {p.v_max} m/s"
+        )
     if report.torque_violation > 0.0:
         raise MoveRejectedError(
             f"{tag}: peak motor torque {report.peak_torque_nm:.6g} N·m exceeds tau_max = {p.tau_max} N·m"
         )
-    return move
+    if report.min_position_m < 0.0 or report.max_position_m > p.L:
+        raise MoveRejectedError(
+            f"{tag}: its path reaches {report.min_position_m:.6g} … {report.max_position_m:.6g} m, outside "
+            f"the stroke [0, {p.L}] m"
+        )
+    return motion
+
+
+def _polynomial_move(cmd: MoveCommand) -> Move:
+    if cmd.knots is not None:
+        raise MoveRejectedError(
+            f"law {cmd.law!r} takes no knots (got {len(cmd.knots)}); use law {SAMPLED_LAW!r}"
+        )
+    return Move(cmd.start_position_m, cmd.end_position_m, cmd.duration_s, polynomial_law(cmd.law))
+
+
+def _sampled_motion(cmd: MoveCommand) -> SampledTrajectory:
+    """The trajectory of a sampled move, consistent with the move's own end points and duration."""
+    if cmd.knots is None:
+        raise MoveRejectedError(f"law {SAMPLED_LAW!r} needs knots, the move has none")
+    traj = SampledTrajectory(*cmd.knots.arrays())
+    for name, given, knot in (
+        ("duration_s", cmd.duration_s, traj.duration_s),
+        ("start_position_m", cmd.start_position_m, traj.x0_m),
+        ("end_position_m", cmd.end_position_m, traj.x1_m),
+    ):
+        if abs(given - knot) > 1e-9:
+            raise MoveRejectedError(f"{name} = {given} differs from its knots' {knot}")
+    return traj
 
 
 @dataclass(frozen=True)
 class QueuedMove:
     command: MoveCommand
-    move: Move
+    move: Motion
     start_tick: int
     end_tick: int
     """first tick after the move's last in-motion sample: the move's end point at rest"""
@@ -150,11 +186,11 @@ class MoveQueue:
         """Drive time [ns] of ``tick``."""
         return self._start_ns + tick * EXECUTION_PERIOD_NS
 
-    def validate(self, cmd: MoveCommand) -> Move:
+    def validate(self, cmd: MoveCommand) -> Motion:
         """:func:`validate_move` with this queue's parameters and axis."""
         return validate_move(cmd, self.params, self.axis)
 
-    def enqueue(self, cmd: MoveCommand, move: Move, now_tick: int, sender: bytes = b"") -> QueuedMove:
+    def enqueue(self, cmd: MoveCommand, move: Motion, now_tick: int, sender: bytes = b"") -> QueuedMove:
         """Queue a validated move after the queued ones (jump, timing and capacity checks)."""
         tag = f"move {cmd.move_id}"
         if len(self._queue) >= MAX_QUEUED_MOVES:
@@ -177,7 +213,7 @@ class MoveQueue:
                     f"{tag}: start {cmd.start_ns} ns is {early_ms:.0f} ms before the end of the queued moves "
                     "/ the current drive time (use start 0 to append)"
                 )
-        queued = QueuedMove(cmd, move, start_tick, start_tick + move_ticks(cmd.duration_s), sender)
+        queued = QueuedMove(cmd, move, start_tick, start_tick + move_ticks(move.duration_s), sender)
         self._queue.append(queued)
         return queued
 

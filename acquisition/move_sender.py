@@ -3,6 +3,7 @@
     with open_session(ZenohOptions()) as session, MoveSender(session, AxisKeys("a0")) as sender:
         sender.send(0.1, 0.5, 0.8, law="poly5")            # appended after the queued moves
         sender.send(0.5, 0.2, 0.6, start_ns=t_ns)          # starts at drive time t_ns
+        sender.send_trajectory(path)                       # a SampledTrajectory, appended
 
 Moves go out on ``<prefix>/<axis>/trajectory`` as ``axisflow_msgs/msg/Move`` with command priority and
 blocking congestion control, numbered so the bridge counts any that were lost. The bridge answers each
@@ -25,9 +26,10 @@ from collections.abc import Collection
 
 import zenoh
 
+from ..model import SampledTrajectory
 from .errors import WireError
 from .keys import AxisKeys
-from .messages import APPEND, MOVE_TYPE, MoveCommand
+from .messages import APPEND, MOVE_TYPE, SAMPLED_LAW, Knots, MoveCommand
 from .move_status import MoveState, MoveStatus
 from .publisher import SequencedPublisher, Traffic, wait_for_subscribers
 
@@ -123,6 +125,28 @@ class MoveSender:
             start_position_m=float(start_position_m),
             end_position_m=float(end_position_m),
             duration_s=float(duration_s),
+        )
+        self._pub.put(cmd.encode(), cmd.stamp_ns)
+        return cmd
+
+    def send_trajectory(
+        self, trajectory: SampledTrajectory, start_ns: int | None = None, move_id: int | None = None
+    ) -> MoveCommand:
+        """Publish a sampled move (law ``sampled``: the trajectory's knots); ``start_ns`` None appends
+        it. The bridge validates it at every 1 kHz sample and knot, like any move."""
+        if move_id is None:
+            move_id = self._next_id
+        self._next_id = move_id + 1
+        cmd = MoveCommand(
+            stamp_ns=time.time_ns(),
+            axis=self.keys.axis,
+            move_id=move_id,
+            start_ns=APPEND if start_ns is None else start_ns,
+            law=SAMPLED_LAW,
+            start_position_m=trajectory.x0_m,
+            end_position_m=trajectory.x1_m,
+            duration_s=trajectory.duration_s,
+            knots=Knots.of(trajectory),
         )
         self._pub.put(cmd.encode(), cmd.stamp_ns)
         return cmd

@@ -240,3 +240,30 @@ def test_a_test_can_drive_the_bridge_tick_by_tick(port):
             bridge.step()
         assert drive.position_m == pytest.approx(0.25, abs=5e-4)
     assert bridge.report.ticks == bridge.tick and bridge.report.moves_completed == 1
+
+
+def test_a_sampled_move_and_a_polynomial_move_run_back_to_back(port):
+    """A trajectory (knots 1 ms apart) sent with send_trajectory runs knot for knot; the poly5 move
+    sent after it is appended with no idle tick."""
+    from axisflow.model import SampledTrajectory
+
+    w = 2 * np.pi * 1.5
+    t = np.arange(0, 2001) * 1e-3  # 2 s: three periods
+    v = 0.05 * w * np.sin(w * t)
+    v[0] = v[-1] = 0.0
+    path = SampledTrajectory(t, 0.05 * (1 - np.cos(w * t)), v, 0.05 * w * w * np.cos(w * t))  # from 0 m
+    with _Bridge(port, duration_s=4.8) as bridge:
+        with _live_sender(port) as sender:
+            first = sender.send_trajectory(path)
+            second = sender.send(path.x1_m, 0.4, 0.8, law="poly5")
+            assert (
+                sender.wait_status(second.move_id, {MoveState.COMPLETED}, 30.0).state is MoveState.COMPLETED
+            )
+        received = bridge.finish()
+    accepted = {st.move_id: st for st in bridge.of(MoveState.ACCEPTED)}
+    assert accepted[first.move_id].end_tick - accepted[first.move_id].start_tick == 2000
+    assert accepted[second.move_id].start_tick == accepted[first.move_id].end_tick
+    x = np.array([s.position_m for s in received])
+    k0 = int(np.flatnonzero(np.abs(np.diff(x)) > 0)[0])  # the first tick in motion follows tick k0
+    assert x[k0 : k0 + 2000] == pytest.approx(path.position_m[:2000], abs=1e-15)
+    assert x[-1] == pytest.approx(0.4)

@@ -170,3 +170,20 @@ def test_wrong_joints_and_bad_records_rejected():
         Attachment.decode(b"\x00" * 10)
     with pytest.raises(ValueError):  # WireError is a ValueError
         Attachment(1, 2, b"short")
+
+
+def test_a_sampled_move_carries_its_knots_exactly():
+    import numpy as np
+    from axisflow.acquisition.messages import SAMPLED_LAW, Knots
+
+    t = np.linspace(0.0, 0.5, 501)
+    knots = Knots(t, 0.2 + 0.1 * t**2, 0.2 * t, np.full(t.size, 0.2))
+    knots.velocity_m_s[-1] = 0.0
+    cmd = MoveCommand(1, "a0", 9, 0, SAMPLED_LAW, 0.2, 0.225, 0.5, knots)
+    data = cmd.encode()
+    back = MoveCommand.decode(data)
+    assert back == cmd and back.knots is not None and back.knots.t_s.dtype == np.float64
+    ref = _reference(MOVE_TYPE)(data)
+    assert list(ref.knot_position_m) == knots.position_m.tolist()
+    assert list(ref.knot_t_s) == t.tolist() and list(ref.knot_acceleration_m_s2) == [0.2] * 501
+    assert MoveCommand.decode(MOVE.encode()).knots is None  # a polynomial move has none

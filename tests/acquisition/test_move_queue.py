@@ -2,6 +2,7 @@
 
 import math
 
+import numpy as np
 import pytest
 from axisflow.acquisition import MoveCommand, MoveQueue, MoveRejectedError
 from axisflow.model import AxisParams
@@ -83,3 +84,58 @@ def test_feed_forward_is_eq1_of_the_poly5_sample():
     assert (sp.position_m, sp.velocity_m_s, sp.acceleration_m_s2) == pytest.approx((x, v, a), rel=1e-12)
     assert sp.force_ff_n == pytest.approx(force, rel=1e-12)
     assert queue.setpoint(1000).velocity_m_s == 0.0 and queue.setpoint(1000).force_ff_n == 0.0  # at rest
+
+
+def _sampled(t, x, v, a, move_id=5):
+    from axisflow.acquisition.messages import SAMPLED_LAW, Knots
+
+    return MoveCommand(
+        0, "a0", move_id, 0, SAMPLED_LAW, float(x[0]), float(x[-1]), float(t[-1]), Knots(t, x, v, a)
+    )
+
+
+def _cosine(x0, amplitude_m, freq_hz, periods, step_s=0.001):
+    """x = x0 + A·(1 − cos ωt): at rest at both ends after whole periods."""
+    w = 2 * math.pi * freq_hz
+    t = np.arange(0.0, periods / freq_hz + step_s / 2, step_s)
+    t[-1] = periods / freq_hz
+    v = amplitude_m * w * np.sin(w * t)
+    v[0] = v[-1] = 0.0
+    return t, x0 + amplitude_m * (1 - np.cos(w * t)), v, amplitude_m * w * w * np.cos(w * t)
+
+
+def test_a_sampled_move_runs_its_knots_at_the_ticks():
+    t, x, v, a = _cosine(0.2, 0.1, 1.0, 2)
+    queue = MoveQueue(PARAMS, 0.2, T0, "a0")
+    q = queue.submit(_sampled(t, x, v, a), 0)
+    assert (q.start_tick, q.end_tick) == (0, 2000)
+    got = [queue.setpoint(k) for k in range(2001)]
+    assert [s.position_m for s in got[:-1]] == pytest.approx(x[:-1], abs=1e-15)
+    assert [s.velocity_m_s for s in got[:-1]] == pytest.approx(v[:-1], abs=1e-12)
+    assert got[-1].position_m == pytest.approx(0.2, abs=1e-15) and got[-1].velocity_m_s == 0.0
+
+
+@pytest.mark.parametrize(
+    ("knots", "match"),
+    [
+        (_cosine(0.5, 0.2, 0.5, 1), r"path reaches 0.5 … 0.9 m, outside the stroke \[0, 0.8\] m"),
+        (_cosine(0.2, 0.1, 2.0, 1), r"peak velocity 1.2566\d* m/s exceeds v_max = 1.0 m/s"),
+        (_cosine(0.2, 0.001, 30.0, 3), r"peak motor torque \d+(\.\d+)? N·m exceeds tau_max = 3.0 N·m"),
+    ],
+    ids=["leaves-the-stroke", "too-fast", "too-much-torque"],
+)
+def test_a_sampled_move_is_validated_at_every_sample(knots, match):
+    queue = MoveQueue(PARAMS, float(knots[1][0]), T0, "a0")
+    with pytest.raises(MoveRejectedError, match=match):
+        queue.submit(_sampled(*knots), 0)
+
+
+def test_a_sampled_move_must_agree_with_its_own_end_points():
+    from axisflow.acquisition.messages import SAMPLED_LAW, Knots
+
+    t, x, v, a = _cosine(0.2, 0.1, 1.0, 1)
+    cmd = MoveCommand(0, "a0", 6, 0, SAMPLED_LAW, 0.2, 0.3, 1.0, Knots(t, x, v, a))
+    with pytest.raises(MoveRejectedError, match=r"move 6: end_position_m = 0.3 differs from its knots' 0.2"):
+        MoveQueue(PARAMS, 0.2, T0, "a0").submit(cmd, 0)
+    with pytest.raises(MoveRejectedError, match="move 1: law 'sampled' needs knots"):
+        MoveQueue(PARAMS, 0.2, T0, "a0").submit(_move(0.2, 0.3, 1.0, law="sampled"), 0)
