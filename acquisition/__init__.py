@@ -8,7 +8,8 @@ Two layers, each importing only the one below it (and :mod:`axisflow.model`):
   logs (:mod:`.mcap_writer`, :mod:`.recording`, :mod:`.log_reader`, :mod:`.recover`). Identification
   and the views use this layer; importing it never loads zenoh.
 * **network** — Zenoh sessions (:mod:`.zenoh_config`, :mod:`.publisher`), the bridge (:mod:`.bridge`,
-  :mod:`.move_intake`), :mod:`.move_sender` (the planner's API), :mod:`.recorder`, :mod:`.replay`.
+  :mod:`.move_intake`), :mod:`.move_sender` (the planner's API) and :mod:`.axis_state` (where an
+  axis is), :mod:`.recorder`, :mod:`.replay`.
 
 Names of the network layer are importable from this package too; they are loaded (with zenoh) on
 first use, so ``from axisflow.acquisition import AxisSample`` stays light. (The function ``replay``
@@ -24,6 +25,7 @@ from .attachment import Attachment
 from .drive import Drive, Setpoint
 from .errors import (
     AcquisitionError,
+    BridgeLostError,
     MoveRejectedError,
     PlantError,
     RecordingError,
@@ -47,6 +49,7 @@ from .recover import RecoverReport, recover
 from .sim_axis import PlantConfig, SimulatedAxis, load_plant
 
 _NETWORK_NAMES: dict[str, str] = {
+    "AxisState": "axis_state",
     "Bridge": "bridge",
     "BridgeConfig": "bridge",
     "BridgeReport": "bridge",
@@ -77,6 +80,7 @@ __all__ = [
     "MOVE_TYPE",
     "SCHEMAS",
     "AcquisitionError",
+    "BridgeLostError",
     "Attachment",
     "AxisKeys",
     "AxisSample",

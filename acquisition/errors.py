@@ -29,6 +29,10 @@ class MoveRejectedError(AcquisitionError, ValueError):
     """A move sent to the drive was refused (outside [0, L], above the limits, discontinuous)."""
 
 
+class BridgeLostError(AcquisitionError):
+    """The bridge of an axis disappeared while a program waited on its moves."""
+
+
 class ZenohConfigError(AcquisitionError, ValueError):
     """The Zenoh options or configuration file are invalid."""
 

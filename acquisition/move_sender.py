@@ -27,12 +27,14 @@ from collections.abc import Collection
 import zenoh
 
 from ..model import SampledTrajectory
-from .errors import WireError
+from .errors import BridgeLostError, WireError
 from .keys import AxisKeys
 from .messages import APPEND, MOVE_TYPE, SAMPLED_LAW, Knots, MoveCommand
 from .move_status import MoveState, MoveStatus
 from .publisher import SequencedPublisher, Traffic, wait_for_subscribers
 
+TERMINAL_STATES = frozenset({MoveState.REJECTED, MoveState.DROPPED, MoveState.STOPPED, MoveState.COMPLETED})
+"""the states after which a move has nothing more to say"""
 STATUS_BACKLOG = 1 << 16
 """move statuses the sender's subscriber holds before the bridge's publication waits"""
 
@@ -45,6 +47,11 @@ class MoveSender:
         self._session = session
         self._pub = SequencedPublisher(session, keys.trajectory, MOVE_TYPE, Traffic.COMMAND)
         self._status_sub = session.declare_subscriber(keys.event, zenoh.handlers.FifoChannel(STATUS_BACKLOG))
+        self._bridge_tokens = session.liveliness().declare_subscriber(
+            keys.alive, zenoh.handlers.FifoChannel(64), history=True
+        )
+        self._bridge_seen = False
+        self._bridge_up = False
         self._token = session.liveliness().declare_token(keys.sender(self._pub.gid))
         self._next_id = 1
         self.statuses: list[MoveStatus] = []
@@ -69,12 +76,22 @@ class MoveSender:
         self.statuses.extend(new)
         return new
 
+    @property
+    def bridge_alive(self) -> bool:
+        """Whether the axis's bridge holds its liveliness token now (as far as this session knows)."""
+        while (token := self._bridge_tokens.try_recv()) is not None:
+            self._bridge_up = token.kind == zenoh.SampleKind.PUT
+            self._bridge_seen = self._bridge_seen or self._bridge_up
+        return self._bridge_up
+
     def wait_status(
         self, move_id: int, states: Collection[MoveState], timeout_s: float, poll_s: float = 0.001
     ) -> MoveStatus | None:
         """The first status of move ``move_id`` in one of ``states`` (already received or arriving
-        within ``timeout_s``), or None. A rejection ends the wait too (it is the move's last status)."""
-        wanted = {*states, MoveState.REJECTED}
+        within ``timeout_s``), or None on time-out. A move's last word ends the wait too (rejected,
+        dropped, stopped: check the returned state). Raises :class:`BridgeLostError` when the bridge,
+        once seen, disappears while waiting: the move will never finish."""
+        wanted = {*states, *TERMINAL_STATES}
         deadline = time.monotonic() + timeout_s
         seen = 0
         while True:
@@ -85,10 +102,15 @@ class MoveSender:
             if time.monotonic() >= deadline:
                 return None
             if not self.poll_status():
+                if self._bridge_seen and not self.bridge_alive:
+                    raise BridgeLostError(
+                        f"the bridge of axis {self.keys.axis!r} disappeared ({self.keys.alive}) while move "
+                        f"{move_id} was waiting to be {' or '.join(s.name.lower() for s in states)}"
+                    )
                 time.sleep(poll_s)
 
     def wait_for_bridge(self, timeout_s: float) -> bool:
-        """True once the bridge's liveliness token answers and the trajectory key has a subscriber.
+        """True once the bridge's liveliness token is seen and the trajectory key has a subscriber.
 
         (A recorder also subscribes to the trajectory key, so the subscriber alone does not prove
         that a bridge listens.) False after ``timeout_s``.
@@ -98,10 +120,9 @@ class MoveSender:
             remaining = deadline - time.monotonic()
             if remaining <= 0:
                 return False
-            replies = self._session.liveliness().get(self.keys.alive, timeout=min(0.5, remaining))
-            if any(reply.ok is not None for reply in replies):
+            if self.bridge_alive:
                 return wait_for_subscribers([self._pub], max(deadline - time.monotonic(), 0.1))
-            time.sleep(0.05)
+            time.sleep(0.01)
 
     def send(
         self,
@@ -153,6 +174,7 @@ class MoveSender:
 
     def close(self) -> None:
         self._token.undeclare()
+        self._bridge_tokens.undeclare()
         self._status_sub.undeclare()
         self._pub.undeclare()
 

@@ -43,7 +43,16 @@ SUBPACKAGES = {
     "cli": "cli",
 }
 # acquisition's network layer: the only acquisition modules that may use zenoh
-NETWORK = {"bridge", "move_intake", "move_sender", "publisher", "recorder", "replay", "zenoh_config"}
+NETWORK = {
+    "axis_state",
+    "bridge",
+    "move_intake",
+    "move_sender",
+    "publisher",
+    "recorder",
+    "replay",
+    "zenoh_config",
+}
 
 
 def _modules() -> list[tuple[Path, str, str]]:
