@@ -1,6 +1,7 @@
-"""The latest measured sample of an axis, for programs that must know where the axis is (a planner
-that starts or restarts, the excitation run): a Zenoh subscriber on ``<prefix>/<axis>/state`` that
-keeps only the newest sample (a ring of one: nothing queues up behind a slow reader)."""
+"""The latest sample of an axis, for programs that must know where the axis is (a planner that starts
+or restarts, the excitation run): a Zenoh subscriber on ``<prefix>/<axis>/state`` (measured) or
+``setpoint`` (commanded: at rest, exactly the position a new move must start from) that keeps only the
+newest sample (a ring of one: nothing queues up behind a slow reader)."""
 
 from __future__ import annotations
 
@@ -16,9 +17,12 @@ from .messages import AxisSample
 class AxisState:
     """Use as a context manager; :meth:`latest` is the newest sample received, or None."""
 
-    def __init__(self, session: zenoh.Session, keys: AxisKeys) -> None:
+    def __init__(self, session: zenoh.Session, keys: AxisKeys, signal: str = "state") -> None:
+        if signal not in ("state", "setpoint"):
+            raise AcquisitionError(f"axis signal {signal!r} is not one of state, setpoint")
         self.keys = keys
-        self._sub = session.declare_subscriber(keys.state, zenoh.handlers.RingChannel(1))
+        self.key = keys.state if signal == "state" else keys.setpoint
+        self._sub = session.declare_subscriber(self.key, zenoh.handlers.RingChannel(1))
         self._latest: AxisSample | None = None
 
     def latest(self) -> AxisSample | None:
@@ -33,7 +37,7 @@ class AxisState:
         while (sample := self.latest()) is None:
             if time.monotonic() >= deadline:
                 raise AcquisitionError(
-                    f"no sample of axis {self.keys.axis!r} on {self.keys.state} within {timeout_s:g} s: "
+                    f"no sample of axis {self.keys.axis!r} on {self.key} within {timeout_s:g} s: "
                     "is its bridge running and reachable?"
                 )
             time.sleep(0.005)

@@ -1,0 +1,105 @@
+"""Running the identification excitation on an axis through its bridge, like any planner would.
+
+The run: find the bridge (its liveliness token), read where the axis holds (the latest setpoint: the
+position a new move must start from), move to the excitation's centre with a minimum-time poly5 move
+(the exact planner), send every burst of the :class:`~axisflow.identification.excitation.ExcitationPlan`
+as a sampled move (appended: no idle tick between them; the bridge validates each at every 1 kHz
+sample) and wait, on the bridge's typed move status, until the last one has completed. A rejected,
+dropped or stopped move, or a bridge that disappears, ends the run with the reason. Record the run
+with ``axisflow record`` and refit with ``axisflow identify``.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import zenoh
+
+from .acquisition import AxisKeys, MoveCommand, MoveRejectedError, MoveState, MoveStatus
+from .acquisition.axis_state import AxisState
+from .acquisition.move_sender import MoveSender
+from .identification.excitation import ExcitationPlan
+from .model import AxisflowError, AxisParams, polynomial_law
+from .planner import Case, MoveProblem, solve_exact
+
+BRIDGE_TIMEOUT_S = 20.0
+"""how long to look for the axis's bridge before giving up [s]"""
+_SLACK_S = 60.0
+_SLOWEST_SPEED = 0.05
+"""the waits assume the bridge runs at least this fraction of real time"""
+
+
+@dataclass
+class ExcitationReport:
+    """What the run did: its moves in order (repositioning first, if any) and their last statuses."""
+
+    axis: str
+    center_m: float
+    moves: list[MoveCommand] = field(default_factory=list)
+    statuses: list[MoveStatus] = field(default_factory=list)
+    wall_time_s: float = 0.0
+
+    @property
+    def drive_time_s(self) -> float:
+        return sum(m.duration_s for m in self.moves)
+
+    def to_dict(self) -> dict[str, object]:
+        return {
+            "axis": self.axis,
+            "center_m": self.center_m,
+            "moves": len(self.moves),
+            "drive_time_s": self.drive_time_s,
+            "wall_time_s": self.wall_time_s,
+            "first_tick": self.statuses[0].start_tick if self.statuses else None,
+            "last_tick": self.statuses[-1].end_tick if self.statuses else None,
+        }
+
+    def format(self) -> str:
+        return (
+            f"excitation on axis {self.axis}: {len(self.moves)} moves, {self.drive_time_s:.1f} s of drive "
+            f"time in {self.wall_time_s:.1f} s, around {self.center_m:.3f} m"
+        )
+
+
+def run_excitation(
+    session: zenoh.Session,
+    keys: AxisKeys,
+    params: AxisParams,
+    plan: ExcitationPlan,
+    progress: Callable[[str], None] | None = None,
+) -> ExcitationReport:
+    """Run ``plan`` on the axis of ``keys`` (see the module docstring); ``progress`` gets one line per
+    finished move."""
+    say = progress or (lambda _line: None)
+    report = ExcitationReport(keys.axis, plan.center_m)
+    t0 = time.monotonic()
+    with MoveSender(session, keys) as sender, AxisState(session, keys, "setpoint") as setpoint:
+        if not sender.wait_for_bridge(BRIDGE_TIMEOUT_S):
+            raise AxisflowError(
+                f"no bridge for axis {keys.axis!r} answered within {BRIDGE_TIMEOUT_S:g} s ({keys.alive}): "
+                "start `axisflow bridge` first, with the same --axis and Zenoh flags"
+            )
+        x_now = setpoint.wait(BRIDGE_TIMEOUT_S).position_m
+        if abs(x_now - plan.center_m) > 1e-9:
+            problem = MoveProblem(x_now, plan.center_m, polynomial_law("poly5"), Case.MIN_TIME)
+            duration = solve_exact(problem, params).duration_s
+            report.moves.append(sender.send(x_now, plan.center_m, duration, law="poly5"))
+        report.moves += [sender.send_trajectory(traj) for traj in plan.trajectories()]
+        offset = len(report.moves) - len(plan.bursts)
+        for k, cmd in enumerate(report.moves, start=1):
+            # queued moves wait for the ones before them: the time-out covers all of those
+            wait_s = _SLACK_S + sum(m.duration_s for m in report.moves[:k]) / _SLOWEST_SPEED
+            status = sender.wait_status(cmd.move_id, {MoveState.COMPLETED}, wait_s)
+            if status is None:
+                raise AxisflowError(
+                    f"move {cmd.move_id} of the excitation did not complete within {wait_s:.0f} s"
+                )
+            if status.state is not MoveState.COMPLETED:
+                raise MoveRejectedError(f"the excitation stopped: {status.text}")
+            report.statuses.append(status)
+            what = "move to the centre" if k <= offset else f"burst {k - offset}/{len(plan.bursts)}"
+            say(f"  {what} done: ticks {status.start_tick}..{status.end_tick}")
+    report.wall_time_s = time.monotonic() - t0
+    return report
