@@ -5,6 +5,7 @@ Per axis, under a configurable prefix (default ``axisflow``):
 * ``<prefix>/<axis>/state`` — measured samples, ``sensor_msgs/msg/JointState`` at 1 kHz;
 * ``<prefix>/<axis>/setpoint`` — what the drive is commanded each tick (same type and joints);
 * ``<prefix>/<axis>/trajectory`` — moves sent to the drive, ``axisflow_msgs/msg/Move``;
+* ``<prefix>/<axis>/stop`` — quick-stop requests to the bridge (abandon the queue, brake, hold);
 * ``<prefix>/<axis>/event`` — the bridge's move status (accepted, rejected with the reason, started,
   completed, dropped), ``axisflow_msgs/msg/MoveStatus``;
 * ``<prefix>/<axis>/alive`` — a Zenoh liveliness token held by the running bridge (not pub/sub data);
@@ -60,6 +61,11 @@ class AxisKeys:
     @property
     def trajectory(self) -> str:
         return f"{self.prefix}/{self.axis}/trajectory"
+
+    @property
+    def stop(self) -> str:
+        """quick-stop requests for the bridge (CiA 402 quick stop: abandon the queue, brake, hold)"""
+        return f"{self.prefix}/{self.axis}/stop"
 
     @property
     def event(self) -> str:
