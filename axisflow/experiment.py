@@ -20,7 +20,7 @@ import numpy as np
 
 from .model import AxisParams, MoveError, polynomial_law
 from .paper import PAPER_TABLE2, PAPER_WAYPOINTS
-from .planner import Case, MoveProblem, PlannerBackend, PlanResult
+from .planner import DEFAULT_OMEGA, Case, MoveProblem, PlannerBackend, PlanResult
 from .planner.reference_laws import least_energy, time_optimal
 
 LAWS: tuple[str, ...] = ("poly3", "poly5", "poly7")
@@ -209,7 +209,7 @@ def run_offline(
     *,
     seed: int = 0,
     waypoints: int = PAPER_WAYPOINTS,
-    omega: float = 0.9,
+    omega: float = DEFAULT_OMEGA,
     laws: Sequence[str] = LAWS,
     cases: Sequence[Case] = CASES,
     limits: bool = True,

@@ -35,10 +35,10 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from axisflow.model import AxisParams, EnergyAccounting
+from axisflow.model import AxisParams, EnergyAccounting, forward_friction
 from axisflow.planner import Case, MoveProblem, make_backend
 from axisflow.planner.errors import InfeasibleMoveError
-from axisflow.planner.exact_backend import solve_exact
+from axisflow.planner.exact import solve_exact
 
 from axisflow.arguments import add_params_option, non_negative_int, params_from_args, positive_int
 
@@ -203,7 +203,7 @@ def _dense_violation(problem: MoveProblem, params: AxisParams, duration_s: float
         return 0.0
     v = D / duration_s * law.shape(_DENSE_U, 1)
     a = D / duration_s**2 * law.shape(_DENSE_U, 2)
-    force = params.M_eq * a + params.a1 + params.a2 * v + params.a3 * np.arctan(params.a4 * v)
+    force = params.M_eq * a + forward_friction(v, params)
     return max(float(np.abs(force).max()) / params.f_max - 1.0, float(v.max()) / params.v_max - 1.0, 0.0)
 
 

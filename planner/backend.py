@@ -27,7 +27,7 @@ def _ipopt(**options: Any) -> PlannerBackend:
 
 
 def _exact(**options: Any) -> PlannerBackend:
-    from .exact_backend import ExactBackend
+    from .exact import ExactBackend
 
     if options:
         raise MoveError(f"the exact solver takes no options, got {', '.join(sorted(options))}")

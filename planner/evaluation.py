@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..model import AxisParams, Move, check_limits, move_energy
+from .certificates import Certificate
 from .errors import InfeasibleMoveError
 from .problem import Case, MoveProblem
 from .result import PlanResult, SolveStatus
@@ -58,7 +59,7 @@ def finish(
     iterations: int,
     solve_time_s: float,
     message: str = "",
-    certificate: dict[str, float] | None = None,
+    certificate: Certificate | None = None,
     energy_j: float | None = None,
 ) -> PlanResult:
     """Score a duration with the precise energy integral (unless the back-end computed the energy
@@ -76,5 +77,5 @@ def finish(
         solve_time_s=solve_time_s,
         max_violation=check_limits(move, params).max_violation,
         message=message,
-        certificate=certificate or {},
+        certificate=certificate,
     )

@@ -24,7 +24,7 @@ from functools import lru_cache
 import casadi as ca
 import numpy as np
 
-from ..model import AxisParams, EnergyAccounting, MoveError, PolynomialLaw
+from ..model import AxisParams, EnergyAccounting, MoveError, PolynomialLaw, friction_expression
 from .evaluation import finish, require_feasible_bounds
 from .problem import Case, MoveProblem
 from .result import PlanResult, SolveStatus
@@ -79,7 +79,7 @@ def _build(
     d, dabs, sgn, M, a1, a2, a3, a4, k_tau, v_lim, _tau_lim, omega, w0 = ca.vertsplit(p)
     v = d * s1 / T
     a = d * s2 / T**2
-    force = M * a + a1 * sgn + a2 * v + a3 * ca.atan(a4 * v)
+    force = M * a + friction_expression(v, sgn, a1, a2, a3, a4, atan=ca.atan)
     g = ca.vertcat(law.peak_velocity_factor * dabs - v_lim * T, k_tau * force)
     if case is Case.MIN_TIME:
         f = w0 * T

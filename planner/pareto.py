@@ -20,7 +20,7 @@ import numpy as np
 
 from ..model import AxisParams, MoveError, polynomial_law
 from .backend import PlannerBackend
-from .exact_backend import solve_exact
+from .exact import solve_exact
 from .problem import Case, MoveProblem
 from .reference_laws import time_optimal
 

@@ -43,8 +43,9 @@ from functools import lru_cache
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
-from ..model import AxisParams, EnergyAccounting, MoveError
+from ..model import AxisParams, EnergyAccounting, MoveError, forward_friction
 from .errors import InfeasibleMoveError
+from .problem import DEFAULT_OMEGA, DEFAULT_TIME_BOUNDS_S, DEFAULT_W0, Case
 
 REFERENCE_LAWS: tuple[str, ...] = ("bang", "least-energy")
 """names of the reference laws, as accepted by ``--law``"""
@@ -55,10 +56,6 @@ _EDGES = np.array([0.0, 1e-3, 1e-2, 0.05, 0.2, 0.5, 1.0])
 
 class ReferenceLawError(MoveError):
     """The axis cannot follow the reference law (e.g. friction at v_max exceeds the force limit)."""
-
-
-def _friction(params: AxisParams, v: np.ndarray | float) -> np.ndarray | float:
-    return params.a1 + params.a2 * v + params.a3 * np.arctan(params.a4 * v)
 
 
 def _integral(f, lo: float, hi: float, pole: float = math.inf) -> float:  # noqa: ANN001 - ndarray -> ndarray
@@ -86,23 +83,23 @@ class _Phases:
         p = self.params
         f = p.f_max
         pole = friction_limited_speed(p)
-        t = _integral(lambda w: p.M_eq / (f - _friction(p, w)), 0.0, v, pole)
-        x = _integral(lambda w: p.M_eq * w / (f - _friction(p, w)), 0.0, v, pole)
+        t = _integral(lambda w: p.M_eq / (f - forward_friction(w, p)), 0.0, v, pole)
+        x = _integral(lambda w: p.M_eq * w / (f - forward_friction(w, p)), 0.0, v, pole)
         return t, x
 
     def brake(self, v_hi: float, v_lo: float = 0.0) -> tuple[float, float]:
         """(t_b, x_b): time and distance to brake from v_hi to v_lo at full braking force."""
         p = self.params
         f = p.f_max
-        t = _integral(lambda w: p.M_eq / (f + _friction(p, w)), v_lo, v_hi)
-        x = _integral(lambda w: p.M_eq * w / (f + _friction(p, w)), v_lo, v_hi)
+        t = _integral(lambda w: p.M_eq / (f + forward_friction(w, p)), v_lo, v_hi)
+        x = _integral(lambda w: p.M_eq * w / (f + forward_friction(w, p)), v_lo, v_hi)
         return t, x
 
     def coast(self, v_hi: float, v_lo: float) -> tuple[float, float]:
         """(t_c, x_c): time and distance to coast (F = 0) from v_hi down to v_lo."""
         p = self.params
-        t = _integral(lambda w: p.M_eq / _friction(p, w), v_lo, v_hi)
-        x = _integral(lambda w: p.M_eq * w / _friction(p, w), v_lo, v_hi)
+        t = _integral(lambda w: p.M_eq / forward_friction(w, p), v_lo, v_hi)
+        x = _integral(lambda w: p.M_eq * w / forward_friction(w, p), v_lo, v_hi)
         return t, x
 
 
@@ -154,7 +151,7 @@ def _profile(
         return None
     x_c = max(x_c, 0.0)
     f = params.f_max
-    work = f * x_a + float(_friction(params, v_c)) * x_c
+    work = f * x_a + float(forward_friction(v_c, params)) * x_c
     return ReferenceProfile(
         law=law,
         distance_m=D,
@@ -177,14 +174,14 @@ def friction_limited_speed(params: AxisParams) -> float:
     """The speed [m/s] at which friction takes the whole force limit, φ(v) = F_max (∞ if never):
     full force accelerates the cart towards it, but never to it."""
     f = params.f_max
-    if float(_friction(params, 0.0)) >= f:
+    if float(forward_friction(0.0, params)) >= f:
         return 0.0
     if params.a2 == 0.0 and params.a1 + (params.a3 * math.pi / 2 if params.a4 > 0.0 else 0.0) <= f:
         return math.inf  # friction saturates below the force limit
     hi = 1.0
-    while float(_friction(params, hi)) < f:
+    while float(forward_friction(hi, params)) < f:
         hi *= 2.0
-    return brentq(lambda v: float(_friction(params, v)) - f, 0.0, hi, xtol=1e-15, rtol=1e-15)
+    return brentq(lambda v: float(forward_friction(v, params)) - f, 0.0, hi, xtol=1e-15, rtol=1e-15)
 
 
 _BELOW_FRICTION_LIMIT = 1e-9
@@ -315,10 +312,10 @@ def plan_reference(
     params: AxisParams,
     *,
     minimise_time: bool = True,
-    omega: float = 0.9,
-    w0: float = 100.0,
-    t_min_s: float = 0.1,
-    t_max_s: float = 3.0,
+    omega: float = DEFAULT_OMEGA,
+    w0: float = DEFAULT_W0,
+    t_min_s: float = DEFAULT_TIME_BOUNDS_S[Case.MIN_TIME][0],
+    t_max_s: float = DEFAULT_TIME_BOUNDS_S[Case.MIN_TIME][1],
 ) -> ReferencePlan:
     """Plan a move with a reference law.
 

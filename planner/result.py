@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from enum import StrEnum
 
 from ..model import Move
+from .certificates import Certificate
 from .problem import MoveProblem
 
 
@@ -38,8 +39,8 @@ class PlanResult:
     solve_time_s: float
     max_violation: float
     message: str = ""
-    certificate: dict[str, float] = field(default_factory=dict)
-    """back-end specific evidence of optimality (bracket, gap); empty when none is proved"""
+    certificate: Certificate | None = None
+    """evidence of optimality (a bracket, a gap: :mod:`.certificates`); None when none is proved"""
 
     @property
     def success(self) -> bool:

@@ -34,7 +34,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--omega",
         type=finite_float,
         default=DEFAULT_OMEGA,
-        help="time weight ω of the min-time-energy case (default 0.9)",
+        help=f"time weight ω of the min-time-energy case (default {DEFAULT_OMEGA})",
     )
     p.add_argument(
         "--no-limits",

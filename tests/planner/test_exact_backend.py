@@ -5,10 +5,26 @@ import math
 
 import numpy as np
 import pytest
-from axisflow.model import EnergyAccounting, Move, MoveError, default_params, move_energy, polynomial_law
-from axisflow.planner import Case, InfeasibleMoveError, MoveProblem, SolveStatus, make_backend
+from axisflow.model import (
+    EnergyAccounting,
+    Move,
+    MoveError,
+    default_params,
+    forward_friction,
+    move_energy,
+    polynomial_law,
+)
+from axisflow.planner import (
+    Case,
+    InfeasibleMoveError,
+    MinTimeCertificate,
+    MoveProblem,
+    SolveStatus,
+    TimeEnergyCertificate,
+    make_backend,
+)
 from axisflow.planner.evaluation import objective
-from axisflow.planner.exact_backend import solve_exact
+from axisflow.planner.exact import Active, solve_exact
 
 LAWS = ["poly3", "poly5", "poly7"]
 U = np.linspace(0.0, 1.0, 20001)
@@ -32,12 +48,7 @@ def dense_ok(x0, x1, law, T, params):
     """Continuous-time limit check on a dense grid (friction sign closed at the ends, as eq. 1 inside)."""
     d = abs(x1 - x0)
     v = d / T * law.shape(U, 1)
-    force = (
-        params.M_eq * d / T**2 * law.shape(U, 2)
-        + params.a1
-        + params.a2 * v
-        + params.a3 * np.arctan(params.a4 * v)
-    )
+    force = params.M_eq * d / T**2 * law.shape(U, 2) + forward_friction(v, params)
     return np.abs(force).max() <= params.f_max * (1 + 1e-9) and v.max() <= params.v_max * (1 + 1e-12)
 
 
@@ -48,12 +59,7 @@ def refined_peak_force(D, law, T, params):
 
     def force(u):
         v = D / T * law.shape(u, 1)
-        return (
-            params.M_eq * D / T**2 * law.shape(u, 2)
-            + params.a1
-            + params.a2 * v
-            + params.a3 * np.arctan(params.a4 * v)
-        )
+        return params.M_eq * D / T**2 * law.shape(u, 2) + forward_friction(v, params)
 
     k = int(np.argmax(force(U)))
     lo, hi = U[max(k - 1, 0)], U[min(k + 1, U.size - 1)]
@@ -84,10 +90,11 @@ def test_min_time_is_the_smallest_duration_meeting_the_limits_in_continuous_time
         assert sol.duration_s == pytest.approx(ref, rel=1e-7), (x0, x1)
         assert dense_ok(x0, x1, poly, sol.duration_s, params)
         cert = sol.certificate
-        assert cert["t_upper_s"] == sol.duration_s
-        if sol.active != "t_min":
-            assert 0 < cert["gap_s"] <= 1e-9 * sol.duration_s
-            assert not dense_ok(x0, x1, poly, cert["t_lower_s"] * (1 - 1e-8), params)
+        assert isinstance(cert, MinTimeCertificate)
+        assert cert.t_upper_s == sol.duration_s
+        if sol.active is not Active.T_MIN:
+            assert 0 < cert.gap_s <= 1e-9 * sol.duration_s
+            assert not dense_ok(x0, x1, poly, cert.t_lower_s * (1 - 1e-8), params)
 
 
 @pytest.mark.parametrize("accounting", list(EnergyAccounting))
@@ -107,17 +114,18 @@ def test_min_time_energy_is_the_global_minimiser(law, accounting):
         best = min(f(T) for T in grid)
         assert sol.objective == pytest.approx(f(sol.duration_s), rel=1e-9)
         assert sol.objective <= best * (1 + 1e-9), (x0, x1)
-        assert sol.certificate["gap_j"] <= 1e-8 * abs(sol.objective)
+        assert isinstance(sol.certificate, TimeEnergyCertificate)
+        assert sol.certificate.gap_j <= 1e-8 * abs(sol.objective)
         assert sol.duration_s >= t_feas * (1 - 1e-7)
 
 
 def test_a_short_move_with_braking_energy_has_an_interior_optimum_and_a_tight_gap():
     p = default_params().replace(energy_accounting="absolute")
     sol = solve_exact(MoveProblem(0.30, 0.33, "poly3", Case.MIN_TIME_ENERGY), p)
-    assert "t_lower_s" in sol.certificate  # the regula-falsi branch ran
-    a, b = sol.certificate["t_lower_s"], sol.certificate["t_upper_s"]
+    assert sol.certificate.has_bracket  # the regula-falsi branch ran
+    a, b = sol.certificate.t_lower_s, sol.certificate.t_upper_s
     assert a <= sol.duration_s <= b and b - a <= 1e-9 * b
-    assert sol.certificate["gap_j"] <= 1e-9 * sol.objective
+    assert sol.certificate.gap_j <= 1e-9 * sol.objective
 
 
 @pytest.mark.parametrize("accounting", ["positive", "absolute"])
@@ -125,46 +133,50 @@ def test_a_short_move_with_braking_energy_has_an_interior_optimum_and_a_tight_ga
 def test_the_start_table_changes_the_path_not_the_answer(law, accounting):
     """Short moves with braking energy: the table-started root search and the plain secant from T_s
     reach the same optimum, and every certificate is a proved bracket of the root of dJ/dT."""
-    from axisflow.planner.exact_backend import _Slope, _slope_root, law_model
+    from axisflow.planner.exact import law_model
+    from axisflow.planner.exact.objective import ObjectiveSlope, slope_root
+    from axisflow.planner.exact.start_table import START_TABLES
 
     p = default_params().replace(energy_accounting=accounting)
     c = 1.0 if accounting == "positive" else 2.0
     lm = law_model(polynomial_law(law), p)
     make_backend("exact").prepare(MoveProblem(0.3, 0.33, law, Case.MIN_TIME_ENERGY), p)
     omega = MoveProblem(0.3, 0.33, law, Case.MIN_TIME_ENERGY).omega
-    assert lm.guess_tables[omega, c]  # solves below start from the table
+    assert START_TABLES.get(polynomial_law(law), p, omega, c)  # solves below start from the table
     interior = 0
     for D in np.geomspace(0.02, 0.07, 60):
         problem = MoveProblem(0.3, 0.3 + float(D), law, Case.MIN_TIME_ENERGY)
         sol = solve_exact(problem, p)
-        if "t_lower_s" not in sol.certificate:
+        if not sol.certificate.has_bracket:
             continue
         interior += 1
-        a, b = sol.certificate["t_lower_s"], sol.certificate["t_upper_s"]
+        a, b = sol.certificate.t_lower_s, sol.certificate.t_upper_s
         assert a <= sol.duration_s <= b and b - a <= 1e-10 * b
-        slope = _Slope(lm, float(D), problem.omega, c)
+        slope = ObjectiveSlope(lm, float(D), problem.omega, c)
         # (a fresh evaluation starts its Newton iterations elsewhere: equal to rounding, ~1e-15)
         assert slope(a)[0] <= 1e-12 and slope(b)[0] >= -1e-12
-        assert sol.certificate["gap_j"] <= 1e-9 * sol.objective
+        assert sol.certificate.gap_j <= 1e-9 * sol.objective
         # unguided: from the smallest feasible duration at or above the signed optimum
         t_s = max(float(D) / _beta(problem, p), problem.t_min_s, _t_feas(problem, p))
         g_s = slope(t_s)[0]
         if g_s < 0.0:
-            a2, b2, _, _ = _slope_root(_Slope(lm, float(D), problem.omega, c), t_s, g_s, problem.t_max_s)
+            a2, b2, _, _ = slope_root(
+                ObjectiveSlope(lm, float(D), problem.omega, c), t_s, g_s, problem.t_max_s
+            )
             assert max(a, a2) <= min(b, b2) * (1 + 1e-10)  # the two proved brackets overlap
     assert interior >= 5
 
 
 def _beta(problem, p):
-    from axisflow.planner.exact_backend import optimal_speed_ratio
+    from axisflow.planner.exact import optimal_speed_ratio
 
     return optimal_speed_ratio(problem.law, p, problem.omega)
 
 
 def _t_feas(problem, p):
-    from axisflow.planner.exact_backend import min_feasible_duration
+    from axisflow.planner.exact import min_feasible_duration
 
-    return min_feasible_duration(problem, p)[0]
+    return min_feasible_duration(problem, p).duration_s
 
 
 @pytest.mark.parametrize("accounting", list(EnergyAccounting))
@@ -176,7 +188,7 @@ def test_exact_never_violates_a_limit_at_1khz(accounting):
             r = backend.solve(MoveProblem(x0, x1, LAWS[i % 3], case), p)
             assert r.status is SolveStatus.CONVERGED
             assert r.max_violation == 0.0
-            assert r.solver == "exact" and r.certificate
+            assert r.solver == "exact" and r.certificate is not None
 
 
 def test_agreement_with_a_converged_ipopt_on_a_few_hundred_moves():
@@ -219,7 +231,7 @@ def test_agreement_with_a_converged_ipopt_on_a_few_hundred_moves():
 
 def test_zero_length_move_and_infeasible_bounds(params):
     sol = solve_exact(MoveProblem(0.4, 0.4, "poly5", Case.MIN_TIME), params)
-    assert sol.duration_s == 0.1 and sol.active == "zero-length"
+    assert sol.duration_s == 0.1 and sol.active is Active.ZERO_LENGTH and sol.certificate is None
     with pytest.raises(
         InfeasibleMoveError, match=r"no duration in \[0.1, 0.2\] s keeps the poly5 move 0 m → 0.8 m"
     ):
@@ -256,7 +268,7 @@ def test_omega_limits(params):
 @pytest.mark.parametrize("accounting", list(EnergyAccounting))
 def test_the_law_model_energy_is_the_model_energy(accounting):
     """ExactBackend scores its results with the law model's energy: the same number as move_energy."""
-    from axisflow.planner.exact_backend import law_model
+    from axisflow.planner.exact import law_energy, law_model
 
     p = default_params().replace(energy_accounting=accounting)
     rng = np.random.default_rng(11)
@@ -266,7 +278,7 @@ def test_the_law_model_energy_is_the_model_energy(accounting):
             D = float(10 ** rng.uniform(-6, math.log10(0.8)))
             T = float(10 ** rng.uniform(-1.3, 1.3))
             ref = move_energy(Move(0.0, D, T, polynomial_law(law)), p)
-            assert lm.energy(D, T, accounting) == pytest.approx(ref, rel=1e-9), (law, D, T)
+            assert law_energy(lm, D, T, accounting) == pytest.approx(ref, rel=1e-9), (law, D, T)
 
 
 def test_without_viscous_friction_a_heavy_time_weight_means_the_fastest_feasible_move(params):
@@ -276,7 +288,7 @@ def test_without_viscous_friction_a_heavy_time_weight_means_the_fastest_feasible
     sol = solve_exact(MoveProblem(0.2, 0.6, "poly5", Case.MIN_TIME_ENERGY, omega=0.95), p)
     fastest = solve_exact(MoveProblem(0.2, 0.6, "poly5", Case.MIN_TIME, t_min_s=0.3, t_max_s=20.0), p)
     assert sol.duration_s == pytest.approx(fastest.duration_s, rel=1e-12)
-    assert sol.certificate["dJ_dT"] > 0.0 and sol.certificate["gap_j"] == 0.0
+    assert sol.certificate.dJ_dT > 0.0 and sol.certificate.gap_j == 0.0
     no_friction_but_coulomb = params.replace(a2=0.0, a3=0.0)
     for omega in (0.1, 0.5, 0.9):
         sol = solve_exact(
@@ -289,13 +301,14 @@ def test_certificates_prove_what_they_claim(params):
     poly = polynomial_law("poly5")
     # minimum time decided by the lower bound: nothing shorter is allowed, the gap is zero
     short = solve_exact(MoveProblem(0.2, 0.201, "poly5", Case.MIN_TIME), params)
-    assert short.active == "t_min"
-    assert short.certificate == {"t_lower_s": 0.1, "t_upper_s": 0.1, "gap_s": 0.0}
+    assert short.active is Active.T_MIN
+    assert short.certificate == MinTimeCertificate(t_lower_s=0.1, t_upper_s=0.1)
+    assert short.certificate.to_dict() == {"t_lower_s": 0.1, "t_upper_s": 0.1, "gap_s": 0.0}
     # time-energy decided by the torque limit: a proved-infeasible duration just below (the peak force
     # found independently: a dense grid, then a bounded search around its best point)
     tight = solve_exact(MoveProblem(0.0, 0.8, "poly5", Case.MIN_TIME_ENERGY, omega=0.999), params)
-    assert tight.active == "torque"
-    below = tight.certificate["t_infeasible_s"]
+    assert tight.active is Active.TORQUE
+    below = tight.certificate.t_infeasible_s
     assert below < tight.duration_s
     assert refined_peak_force(0.8, poly, below, params) > params.f_max
     assert refined_peak_force(0.8, poly, tight.duration_s, params) <= params.f_max * (1 + 1e-12)
@@ -304,13 +317,13 @@ def test_certificates_prove_what_they_claim(params):
     for law in LAWS:
         fast = params.replace(v_max=0.3)
         sol = solve_exact(MoveProblem(0.0, 0.8, law, Case.MIN_TIME, t_max_s=20.0), fast)
-        assert sol.active == "velocity"
+        assert sol.active is Active.VELOCITY
         c_v = polynomial_law(law).peak_velocity_factor
-        assert c_v * 0.8 / sol.certificate["t_lower_s"] > fast.v_max >= c_v * 0.8 / sol.duration_s
+        assert c_v * 0.8 / sol.certificate.t_lower_s > fast.v_max >= c_v * 0.8 / sol.duration_s
     # an interior optimum (signed energy): a bracket of the root of dJ/dT and a tiny gap
     p = params.replace(energy_accounting="signed")
     inner = solve_exact(MoveProblem(0.2, 0.6, "poly5", Case.MIN_TIME_ENERGY), p)
     c = inner.certificate
-    assert inner.active == "optimum"
-    assert c["t_lower_s"] < inner.duration_s < c["t_upper_s"] <= c["t_lower_s"] * (1 + 1e-8)
-    assert 0.0 <= c["gap_j"] <= 1e-12 * inner.objective
+    assert inner.active is Active.OPTIMUM
+    assert c.t_lower_s < inner.duration_s < c.t_upper_s <= c.t_lower_s * (1 + 1e-8)
+    assert 0.0 <= c.gap_j <= 1e-12 * inner.objective

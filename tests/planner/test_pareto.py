@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from axisflow.model import MoveError, default_params
 from axisflow.planner import Case, MoveProblem
-from axisflow.planner.exact_backend import solve_exact
+from axisflow.planner.exact import solve_exact
 from axisflow.planner.pareto import check_omegas, sweep, time_optimal_point
 
 

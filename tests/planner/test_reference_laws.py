@@ -4,9 +4,17 @@ import math
 
 import numpy as np
 import pytest
-from axisflow.model import EnergyAccounting, Move, MoveError, default_params, move_energy, polynomial_law
+from axisflow.model import (
+    EnergyAccounting,
+    Move,
+    MoveError,
+    default_params,
+    forward_friction,
+    move_energy,
+    polynomial_law,
+)
 from axisflow.planner import Case, InfeasibleMoveError, MoveProblem
-from axisflow.planner.exact_backend import solve_exact
+from axisflow.planner.exact import solve_exact
 from axisflow.planner.reference_laws import ReferenceLawError, least_energy, plan_reference, time_optimal
 from scipy.integrate import solve_ivp
 
@@ -47,7 +55,7 @@ def test_bang_profile_integrated_as_an_ode_stops_at_the_target(distance_m, param
             return [v, 0.0]
         else:
             force = -p.f_max
-        fric = p.a1 * np.sign(max(v, 1e-12)) + p.a2 * v + p.a3 * np.arctan(p.a4 * v)
+        fric = float(forward_friction(v, p))  # forward frame: the Coulomb sign is +1
         return [v, (force - fric) / p.M_eq]
 
     sol = solve_ivp(
@@ -117,12 +125,12 @@ def test_an_axis_that_cannot_reach_v_max_still_has_its_time_optimal_move(params,
     from scipy.integrate import solve_ivp
 
     p = params.replace(tau_max=tau_max, a4=a4)
-    assert float(p.a1 + p.a2 * p.v_max + p.a3 * np.arctan(p.a4 * p.v_max)) > p.f_max
+    assert float(forward_friction(p.v_max, p)) > p.f_max
     prof = time_optimal(0.8, p)
     assert prof.cruise_velocity_m_s < p.v_max
 
     def phi(v):
-        return p.a1 + p.a2 * v + p.a3 * np.arctan(p.a4 * v)
+        return forward_friction(v, p)
 
     up = solve_ivp(lambda _t, y: [y[1], (p.f_max - phi(y[1])) / p.M_eq], [0, prof.accel_time_s], [0, 0],
                    rtol=1e-12, atol=1e-14)  # fmt: skip
