@@ -33,6 +33,7 @@ from .errors import (
     ZenohConfigError,
 )
 from .keys import AxisKeys, KeyExprError, all_keys, key_for_topic, topic_for_key
+from .log_reader import JointColumns, JointStateColumns, TopicInfo, list_topics, read_joint_states
 from .messages import (
     APPEND,
     JOINT_STATE_TYPE,
@@ -85,7 +86,9 @@ __all__ = [
     "AxisKeys",
     "AxisSample",
     "Drive",
+    "JointColumns",
     "JointState",
+    "JointStateColumns",
     "KeyExprError",
     "MoveCommand",
     "MoveQueue",
@@ -99,13 +102,16 @@ __all__ = [
     "RecoverReport",
     "Setpoint",
     "SimulatedAxis",
+    "TopicInfo",
     "WireError",
     "ZenohConfigError",
     "all_keys",
     "is_complete",
     "iter_recording",
     "key_for_topic",
+    "list_topics",
     "load_plant",
+    "read_joint_states",
     "recover",
     "topic_for_key",
     *_NETWORK_NAMES,

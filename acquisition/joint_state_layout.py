@@ -52,7 +52,7 @@ def _align(pos: int, size: int) -> int:
 
 
 class _Cursor:
-    """Walks a payload by the CDR rules; any overrun or bad string raises ``_Unlaid``."""
+    """Walks a payload by the CDR rules; any overrun or bad string raises ``_UnlaidError``."""
 
     def __init__(self, data: bytes, pos: int) -> None:
         self.data = data
@@ -61,7 +61,7 @@ class _Cursor:
     def uint32(self) -> int:
         self.pos = _align(self.pos, 4)
         if self.pos + 4 > len(self.data):
-            raise _Unlaid
+            raise _UnlaidError
         (value,) = _U32.unpack_from(self.data, self.pos)
         self.pos += 4
         return value
@@ -69,16 +69,16 @@ class _Cursor:
     def string(self) -> str:
         n = self.uint32()
         if self.pos + n > len(self.data):
-            raise _Unlaid
+            raise _UnlaidError
         raw = self.data[self.pos : self.pos + n - 1] if n else b""
         self.pos += n
         try:
             return raw.decode("utf-8")
         except UnicodeDecodeError:
-            raise _Unlaid from None
+            raise _UnlaidError from None
 
 
-class _Unlaid(Exception):
+class _UnlaidError(Exception):
     """The payload has no fixed layout this module handles (internal; never escapes the module)."""
 
 
@@ -122,7 +122,7 @@ class JointStateLayout:
                 cursor.pos += 8 * count
                 if cursor.pos > len(data):
                     return None
-        except _Unlaid:
+        except _UnlaidError:
             return None
         return cls(len(data), frame_id, names, (offsets[0], offsets[1], offsets[2]))
 
@@ -177,8 +177,9 @@ class JointStateLayout:
 
     def decode(self, rows: np.ndarray) -> DecodedJointStates:
         """Stamps and arrays of payloads of this shape (uint8 rows, shape (n, size), e.g. a strided
-        view of the messages of a chunk). Raises :class:`WireError` if a nanosec field is ≥ 10⁹ (the
-        same check as :func:`.cdr.read_time`)."""
+        view of the messages of a chunk). The arrays are views into ``rows``; an array that is empty
+        in this shape decodes as NaN. Raises :class:`WireError` if a nanosec field is ≥ 10⁹ (the same
+        check as :func:`.cdr.read_time`)."""
         fields = rows.view(self.dtype)[:, 0]
         nanosec = fields["nanosec"]
         if (nanosec >= NS_PER_S).any():
@@ -191,7 +192,7 @@ class JointStateLayout:
             if offset is None:
                 arrays.append(np.full((n, self.joints), np.nan))
             else:
-                arrays.append(fields[field].astype(np.float64, copy=True))
+                arrays.append(fields[field])
         return DecodedJointStates(stamp_ns, arrays[0], arrays[1], arrays[2])
 
     def encode(

@@ -132,6 +132,7 @@ def test_only_the_network_modules_of_acquisition_touch_zenoh():
         ["axisflow.acquisition"],
         [
             "axisflow.acquisition.recording",
+            "axisflow.acquisition.log_reader",
             "axisflow.acquisition.recover",
             "axisflow.acquisition.messages",
             "axisflow.acquisition.sim_axis",
