@@ -15,7 +15,7 @@ def plan():
 
 
 def test_bursts_are_rest_to_rest_at_the_centre_and_inside_every_limit(plan):
-    assert 80.0 <= plan.duration_s <= 100.0
+    assert 110.0 <= plan.duration_s <= 150.0
     for traj in plan.trajectories():
         assert traj.x0_m == traj.x1_m == pytest.approx(P.L / 2)
         assert traj.velocity_m_s[0] == traj.velocity_m_s[-1] == 0.0
@@ -44,10 +44,10 @@ def test_speeds_from_the_atan_knee_to_most_of_v_max_both_ways_and_strong_acceler
     # enough samples where a3·atan(a4·v) still bends (|a4·v| < 1) and where it has saturated (> 5)
     assert np.mean((speeds > 0.002) & (P.a4 * speeds < 1.0)) > 0.3
     assert np.mean(P.a4 * speeds > 5.0) > 0.05
-    # inertia seen apart from friction: large accelerations while the speed is moderate
-    torque_inertia = np.abs(motor_torque(P.M_eq * a, P))
-    torque_friction = np.abs(motor_torque(cart_force(v, 0.0 * a, P), P))
-    assert np.mean(torque_inertia > torque_friction) > 0.05
+    # inertia seen apart from friction: a large inertial torque, uncorrelated with the friction terms
+    assert np.max(np.abs(motor_torque(P.M_eq * a, P))) > 0.25 * P.tau_max
+    for regressor in (np.sign(v), v, np.arctan(P.a4 * v), cart_force(v, 0.0 * a, P)):
+        assert abs(np.corrcoef(a, regressor)[0, 1]) < 0.1
 
 
 @pytest.mark.parametrize(

@@ -1,0 +1,201 @@
+"""The refit: eq. (1)'s inertia and friction parameters by SQP, so that model effort matches measured.
+
+With the prepared samples (ẋ_k, ẍ_k, F_k: filtered, decimated; :mod:`.preparation`) and k_e the joint's
+effort per cart force (r/i_r for a motor joint), the residuals and the problem are
+
+    e_k(p) = k_e·(F_k − M_eq·ẍ_k − F_c(ẋ_k; a1, a2, a3, a4)),   F_c of :mod:`axisflow.model.friction`
+    min_p  ½·Σ_k (e_k/σ_e)²  s.t.  a1 … a4 ≥ 0,  M_eq > 0,
+
+over the parameters chosen with ``fit`` (the rest stay at their nominal values), σ_e the RMS of the
+measured effort (so the objective starts near 1). The variables are scaled, p_i = θ_i·|p_i,nominal|.
+
+Solver: CasADi's ``sqpmethod`` (the paper's SQP) with qrqp for the QP steps and a **Gauss–Newton
+Hessian** JᵀJ/σ_e² supplied through ``hess_lag`` (the exact Hessian of this least-squares problem is
+indefinite away from the optimum, where qrqp then fails; Gauss–Newton is positive semi-definite and
+converges in a few iterations). F_c is nonlinear only in a4, so the problem is nearly linear and its
+optimum is unique when the excitation separates the terms (see :mod:`.uncertainty`). The result
+carries the Jacobian at the optimum for the uncertainty analysis.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from ..model import AxisParams, friction_expression, friction_force
+from .preparation import FitSamples
+from .signals import IdentificationError
+
+PARAMETERS: tuple[str, ...] = ("M_eq", "a1", "a2", "a3", "a4")
+"""what a refit may estimate, in report order"""
+PARAMETER_UNITS = {"M_eq": "kg", "a1": "N", "a2": "N·s/m", "a3": "N", "a4": "s/m"}
+DEFAULT_MAX_ITER = 50
+
+
+@dataclass(frozen=True)
+class FrictionValues:
+    """The five model parameters of eq. (1) a fit works with (SI units)."""
+
+    M_eq: float
+    a1: float
+    a2: float
+    a3: float
+    a4: float
+
+    @classmethod
+    def of(cls, params: AxisParams) -> FrictionValues:
+        return cls(params.M_eq, params.a1, params.a2, params.a3, params.a4)
+
+    def as_dict(self) -> dict[str, float]:
+        return {name: getattr(self, name) for name in PARAMETERS}
+
+    def force_n(self, velocity_m_s: np.ndarray, acceleration_m_s2: np.ndarray) -> np.ndarray:
+        """eq. (1): M_eq·ẍ + F_c(ẋ) [N]."""
+        return self.M_eq * np.asarray(acceleration_m_s2) + friction_force(velocity_m_s, self)
+
+
+@dataclass(frozen=True, eq=False)
+class FitResult:
+    """What the SQP found, and how."""
+
+    values: FrictionValues
+    initial: FrictionValues
+    fitted: tuple[str, ...]
+    """the parameters estimated (the others kept their initial, nominal values)"""
+    status: str
+    """CasADi's return status"""
+    success: bool
+    iterations: int
+    solve_time_s: float
+    residuals: np.ndarray
+    """e_k at the optimum [effort units: N·m or N]"""
+    jacobian: np.ndarray
+    """∂e_k/∂p_i at the optimum, (n, len(fitted)), per unit of each parameter"""
+
+    @property
+    def rms(self) -> float:
+        return float(np.sqrt(np.mean(self.residuals**2)))
+
+
+def check_fit_names(names: tuple[str, ...] | list[str]) -> tuple[str, ...]:
+    """The parameters to fit, validated, in :data:`PARAMETERS` order."""
+    unknown = [n for n in names if n not in PARAMETERS]
+    if unknown or not names:
+        raise IdentificationError(
+            f"--fit {','.join(names)!s}: {'unknown ' + ', '.join(unknown) if unknown else 'nothing to fit'}; "
+            f"choose from {', '.join(PARAMETERS)}"
+        )
+    return tuple(n for n in PARAMETERS if n in names)
+
+
+class FrictionFit:
+    """The SQP problem for fixed kinematics; :meth:`solve` fits one measured force (several forces, e.g.
+    shifted in time by :mod:`.alignment`, reuse the same solver)."""
+
+    def __init__(
+        self,
+        velocity_m_s: np.ndarray,
+        acceleration_m_s2: np.ndarray,
+        effort_per_force: float,
+        nominal: AxisParams,
+        fit: tuple[str, ...] = PARAMETERS,
+        max_iter: int = DEFAULT_MAX_ITER,
+    ) -> None:
+        self.names = check_fit_names(fit)
+        self.initial = FrictionValues.of(nominal)
+        start = self.initial.as_dict()
+        self._scale = np.array([max(abs(start[n]), 1e-3) for n in self.names])
+        theta = ca.MX.sym("theta", len(self.names))
+        value = {n: start[n] for n in PARAMETERS}
+        for i, n in enumerate(self.names):
+            value[n] = theta[i] * self._scale[i]
+        n_samples = int(np.size(velocity_m_s))
+        force = ca.MX.sym("force", n_samples)
+        sigma = ca.MX.sym("sigma")
+        v, a = ca.DM(velocity_m_s), ca.DM(acceleration_m_s2)
+        sign_v = ca.DM(np.sign(velocity_m_s))
+        k = effort_per_force
+        friction = friction_expression(v, sign_v, value["a1"], value["a2"], value["a3"], value["a4"], ca.atan)
+        residual = k * (force - value["M_eq"] * a - friction)
+        weight = 1.0 / (sigma * sigma * n_samples)
+        jac = ca.jacobian(residual, theta)
+        lam_f = ca.MX.sym("lam_f")
+        data = ca.vertcat(force, sigma)
+        hess_lag = ca.Function(
+            "gauss_newton",
+            [theta, data, lam_f, ca.MX.sym("lam_g", 0)],
+            [lam_f * weight * ca.mtimes(jac.T, jac)],
+            ["x", "p", "lam_f", "lam_g"],
+            ["hess_gamma_x_x"],
+        )
+        self._solver = ca.nlpsol(
+            "friction_fit",
+            "sqpmethod",
+            {"x": theta, "p": data, "f": 0.5 * weight * ca.sumsqr(residual)},
+            {
+                "qpsol": "qrqp",
+                "qpsol_options": {"print_iter": False, "print_header": False, "error_on_fail": False},
+                "hess_lag": hess_lag,
+                "max_iter": max_iter,
+                "tol_du": 1e-13,
+                "tol_pr": 1e-13,
+                "print_header": False,
+                "print_iteration": False,
+                "print_status": False,
+                "print_time": False,
+            },
+        )
+        self._evaluate = ca.Function("residual_and_jacobian", [theta, force], [residual, jac])
+        self._lower = np.array([1e-6 if name == "M_eq" else 0.0 for name in self.names])
+        self._k = k
+
+    def solve(self, force_n: np.ndarray) -> FitResult:
+        """Fit the measured cart force ``force_n`` [N] (one value per sample of the kinematics)."""
+        sigma = float(np.sqrt(np.mean((self._k * np.asarray(force_n)) ** 2))) or 1.0
+        t0 = time.perf_counter()
+        solution = self._solver(x0=np.ones(len(self.names)), lbx=self._lower, p=np.r_[force_n, sigma])
+        elapsed = time.perf_counter() - t0
+        stats = self._solver.stats()
+        theta_opt = np.array(solution["x"]).ravel()
+        found = self.initial.as_dict()
+        for i, name in enumerate(self.names):
+            found[name] = float(theta_opt[i] * self._scale[i])
+        r_opt, j_opt = self._evaluate(theta_opt, force_n)
+        return FitResult(
+            values=FrictionValues(**found),
+            initial=self.initial,
+            fitted=self.names,
+            status=str(stats.get("return_status", "unknown")),
+            success=bool(stats.get("success", False)),
+            iterations=int(stats.get("iter_count", -1)),
+            solve_time_s=elapsed,
+            residuals=np.array(r_opt).ravel(),
+            jacobian=np.array(j_opt) / self._scale,  # per unit of each parameter, not of θ
+        )
+
+
+def fit_parameters(
+    samples: FitSamples,
+    nominal: AxisParams,
+    fit: tuple[str, ...] = PARAMETERS,
+    max_iter: int = DEFAULT_MAX_ITER,
+) -> FitResult:
+    """Estimate the ``fit`` parameters from ``samples`` starting at ``nominal`` (see the module doc)."""
+    problem = FrictionFit(
+        samples.velocity_m_s, samples.acceleration_m_s2, samples.effort_per_force, nominal, fit, max_iter
+    )
+    return problem.solve(samples.force_n)
+
+
+def effort_error(
+    values: FrictionValues,
+    velocity_m_s: np.ndarray,
+    acceleration_m_s2: np.ndarray,
+    effort: np.ndarray,
+    effort_per_force: float,
+) -> np.ndarray:
+    """Measured minus model effort (N·m for a motor joint, N for a carriage joint)."""
+    return np.asarray(effort) - effort_per_force * values.force_n(velocity_m_s, acceleration_m_s2)
