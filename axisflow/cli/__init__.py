@@ -27,6 +27,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "bridge_cmd",
     "record_cmd",
     "excite_cmd",
+    "identify_cmd",
     "replay_cmd",
     "recover_cmd",
 )

@@ -1,0 +1,106 @@
+"""``axisflow identify``: refit the friction (and inertia) from recorded logs by SQP."""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+from ..arguments import add_params_option, finite_float, params_from_args
+from ..files import check_output_dir, ensure_dir, write_atomic
+from ..identification.fit import PARAMETERS
+from ..identification.preparation import PreparationSettings
+from ..identification.refit import DEFAULT_JOINT, DEFAULT_TOPIC, IdentifySettings, identify
+from ..identification.report import params_file, report_json, report_markdown
+from ..viz.identification_figure import identification_png
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "identify",
+        help="refit friction (and inertia) from JointState MCAP logs by SQP",
+        description="Read sensor_msgs/msg/JointState samples of one joint from MCAP logs (ours or any "
+        "ROS 2 recording), estimate velocity and acceleration by zero-phase filtering, fit M_eq and "
+        "a1…a4 of eq. (1) by CasADi's SQP so that model effort matches the measured one, and write "
+        "DIR/params.toml (a complete parameter file), DIR/report.json, DIR/report.md and DIR/fit.png.",
+    )
+    p.add_argument(
+        "logs", nargs="+", metavar="LOG.mcap", help="recordings to fit (e.g. of `axisflow excite`)"
+    )
+    p.add_argument("--out", required=True, metavar="DIR", help="output directory (created if missing)")
+    p.add_argument("--topic", default=DEFAULT_TOPIC, help=f"JointState topic (default {DEFAULT_TOPIC})")
+    p.add_argument(
+        "--joint",
+        default=DEFAULT_JOINT,
+        help=f"joint name (default {DEFAULT_JOINT}: rad, rad/s, N·m; 'carriage': m, m/s, N)",
+    )
+    p.add_argument(
+        "--joint-kind",
+        choices=("motor", "carriage"),
+        default=None,
+        help="what a joint of another name measures: the motor (rad, rad/s, N·m) or the carriage (m, m/s, N)",
+    )
+    p.add_argument(
+        "--fit",
+        default=",".join(PARAMETERS),
+        metavar="NAMES",
+        help=f"comma-separated parameters to fit (default {','.join(PARAMETERS)}); the others stay nominal",
+    )
+    group = p.add_mutually_exclusive_group()
+    group.add_argument(
+        "--validate", action="append", default=[], metavar="LOG.mcap", help="a separate log to validate on"
+    )
+    group.add_argument(
+        "--holdout",
+        type=finite_float,
+        default=0.0,
+        metavar="FRACTION",
+        help="validate on the last FRACTION of each log, left out of the fit (e.g. 0.2)",
+    )
+    p.add_argument(
+        "--torque-delay",
+        type=finite_float,
+        default=None,
+        metavar="S",
+        help="torque/position time offset [s] (default: estimated from the logs)",
+    )
+    p.add_argument(
+        "--cutoff",
+        type=finite_float,
+        default=PreparationSettings.cutoff_hz,
+        metavar="HZ",
+        help=f"cut-off of the zero-phase low-pass [Hz] (default {PreparationSettings.cutoff_hz:g})",
+    )
+    p.add_argument("--json", action="store_true", help="print report.json instead of the summary")
+    add_params_option(p)
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    nominal = params_from_args(args)
+    out = check_output_dir(args.out)  # a bad --out fails before the work, not after it
+    settings = IdentifySettings(
+        topic=args.topic,
+        joint=args.joint,
+        joint_kind=args.joint_kind,
+        fit=tuple(name.strip() for name in args.fit.split(",") if name.strip()),
+        preparation=PreparationSettings(cutoff_hz=args.cutoff),
+        torque_delay_s=args.torque_delay,
+        holdout=args.holdout,
+    )
+    ident = identify(args.logs, nominal, settings, validate=args.validate)
+    report = report_json(ident)
+    markdown = report_markdown(report)
+    figure = identification_png(ident.traces())
+    ensure_dir(out)
+    write_atomic(out / "params.toml", params_file(ident))
+    write_atomic(out / "report.json", json.dumps(report, indent=1) + "\n")
+    write_atomic(out / "report.md", markdown)
+    write_atomic(out / "fit.png", figure)
+    if args.json:
+        print(json.dumps(report, indent=1))
+    else:
+        print(markdown, end="")
+        print(
+            f"\nwrote {out / 'params.toml'}, {out / 'report.json'}, {out / 'report.md'} and {out / 'fit.png'}"
+        )
+    return 0
