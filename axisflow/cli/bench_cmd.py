@@ -11,7 +11,7 @@ import argparse
 import importlib
 
 # benchmark modules under axisflow.benchmarks, by the name used on the command line
-BENCHMARKS: dict[str, str] = {"pipeline": "pipeline", "planner": "planner"}
+BENCHMARKS: dict[str, str] = {"pipeline": "pipeline", "planner": "planner", "identify": "identify"}
 
 
 def register(sub: argparse._SubParsersAction) -> None:
