@@ -45,6 +45,7 @@ from .messages import (
 )
 from .move_queue import MoveQueue
 from .move_status import MOVE_STATUS_TYPE, MoveState, MoveStatus
+from .plan_record import PLAN_TYPE, PlanRecord
 from .recording import RecordedMessage, is_complete, iter_recording
 from .recover import RecoverReport, recover
 from .sim_axis import PlantConfig, SimulatedAxis, load_plant
@@ -79,6 +80,7 @@ __all__ = [
     "JOINT_STATE_TYPE",
     "MOVE_STATUS_TYPE",
     "MOVE_TYPE",
+    "PLAN_TYPE",
     "SCHEMAS",
     "AcquisitionError",
     "BridgeLostError",
@@ -95,6 +97,7 @@ __all__ = [
     "MoveRejectedError",
     "MoveState",
     "MoveStatus",
+    "PlanRecord",
     "PlantConfig",
     "PlantError",
     "RecordedMessage",

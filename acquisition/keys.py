@@ -8,6 +8,8 @@ Per axis, under a configurable prefix (default ``axisflow``):
 * ``<prefix>/<axis>/stop`` — quick-stop requests to the bridge (abandon the queue, brake, hold);
 * ``<prefix>/<axis>/event`` — the bridge's move status (accepted, rejected with the reason, started,
   completed, dropped), ``axisflow_msgs/msg/MoveStatus``;
+* ``<prefix>/<axis>/plan`` — what the planner decided for each move (duration, model energy, solve
+  time, certificate), ``axisflow_msgs/msg/PlanResult``;
 * ``<prefix>/<axis>/alive`` — a Zenoh liveliness token held by the running bridge (not pub/sub data);
 * ``<prefix>/<axis>/sender/<id>`` — a liveliness token held by each move sender while it lives
   (``<id>``: the hex publisher id in its moves' attachments); a bridge runs only moves of live senders.
@@ -66,6 +68,11 @@ class AxisKeys:
     def stop(self) -> str:
         """quick-stop requests for the bridge (CiA 402 quick stop: abandon the queue, brake, hold)"""
         return f"{self.prefix}/{self.axis}/stop"
+
+    @property
+    def plan(self) -> str:
+        """the planner's plan record of each move"""
+        return f"{self.prefix}/{self.axis}/plan"
 
     @property
     def event(self) -> str:

@@ -9,6 +9,8 @@ definition with its dependencies, as rosbag2 stores it) so that any tool decodes
   polynomial law, or (law ``sampled``) a path given by its :class:`Knots`.
 * ``axisflow_msgs/msg/MoveStatus`` — :class:`~axisflow.acquisition.move_status.MoveStatus`; what a
   bridge did with each move (accepted, rejected with the reason, started, completed, dropped).
+* ``axisflow_msgs/msg/PlanResult`` — :class:`~axisflow.acquisition.plan_record.PlanRecord`; what a
+  planner decided for each move (duration, model energy, objective, solver status, certificate).
 
 Time stamps are integer nanoseconds since the Unix epoch (``builtin_interfaces/Time`` on the wire).
 """
@@ -31,6 +33,7 @@ from .cdr import (
 )
 from .errors import WireError
 from .move_status import MOVE_STATUS_SCHEMA, MOVE_STATUS_TYPE
+from .plan_record import PLAN_SCHEMA, PLAN_TYPE
 
 JOINT_STATE_TYPE = "sensor_msgs/msg/JointState"
 MOVE_TYPE = "axisflow_msgs/msg/Move"
@@ -67,6 +70,7 @@ SCHEMAS: dict[str, str] = {
     JOINT_STATE_TYPE: JOINT_STATE_SCHEMA,
     MOVE_TYPE: MOVE_SCHEMA,
     MOVE_STATUS_TYPE: MOVE_STATUS_SCHEMA,
+    PLAN_TYPE: PLAN_SCHEMA,
 }
 """ros2msg schema text by ROS 2 type name, for every type axisflow publishes."""
 

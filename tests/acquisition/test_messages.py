@@ -187,3 +187,29 @@ def test_a_sampled_move_carries_its_knots_exactly():
     assert list(ref.knot_position_m) == knots.position_m.tolist()
     assert list(ref.knot_t_s) == t.tolist() and list(ref.knot_acceleration_m_s2) == [0.2] * 501
     assert MoveCommand.decode(MOVE.encode()).knots is None  # a polynomial move has none
+
+
+def test_plan_record_round_trip_and_reference_codec():
+    from axisflow.acquisition import PLAN_TYPE, PlanRecord
+
+    rec = PlanRecord(
+        1_700_000_000_000_000_123, "a0", 12, "refit", 7, "min-time-energy", "poly5", "exact", 0.9, 0.12, 0.55,
+        1.234, 56.7, "positive", 5.81, 0.0, "converged", 0, 4.2e-5,
+        {"gap_j": 1e-9, "t_lower_s": 1.2339, "t_upper_s": 1.2341, "dJ_dT": -1e-7},
+    )  # fmt: skip
+    data = rec.encode()
+    assert PlanRecord.decode(data) == rec
+    ref = _reference(PLAN_TYPE)(data)
+    assert (ref.move_id, ref.run, ref.waypoint_index, ref.case, ref.law) == (
+        12,
+        "refit",
+        7,
+        "min-time-energy",
+        "poly5",
+    )
+    assert (ref.duration_s, ref.energy_j, ref.iterations) == (1.234, 56.7, 0)
+    assert dict(zip(ref.certificate_keys, ref.certificate_values, strict=True)) == rec.certificate
+    empty = PlanRecord(
+        0, "a0", 1, "", 0, "min-time", "poly3", "ipopt", 0.9, 0, 0.1, 0.3, 1, "signed", 30, 0, "x", 9, 0
+    )
+    assert PlanRecord.decode(empty.encode()).certificate == {}
