@@ -25,8 +25,10 @@ PLAN_SCHEMA = schema_with_dependencies(
     "# What a planner decided for one move, published when the plan was ready.\n"
     "# header.stamp: when the plan was ready (ns since the Unix epoch); header.frame_id: the axis name.\n"
     "std_msgs/Header header\n"
-    "# the move's identifier (the Move message's move_id)\n"
+    "# the move's identifier (the Move message's move_id) and its sender's publisher id (hex), as in\n"
+    "# the bridge's MoveStatus\n"
     "uint64 move_id\n"
+    "string sender\n"
     "# label of the planner's run, e.g. nominal or refit\n"
     "string run\n"
     "# k for the move from way point k-1 to way point k; 0 for a move to the first way point\n"
@@ -62,6 +64,8 @@ class PlanRecord:
     stamp_ns: int
     axis: str
     move_id: int
+    sender: str
+    """the hex publisher id of the MoveSender that sent the move (move ids are unique per sender)"""
     run: str
     waypoint_index: int
     case: str
@@ -91,6 +95,7 @@ class PlanRecord:
         write_time(w, self.stamp_ns)
         w.string(self.axis)
         w.uint64(self.move_id)
+        w.string(self.sender)
         w.string(self.run)
         w.uint32(self.waypoint_index)
         for text in (self.case, self.law, self.solver):
@@ -110,7 +115,8 @@ class PlanRecord:
     @classmethod
     def decode(cls, data: bytes | bytearray | memoryview) -> PlanRecord:
         r = CdrReader(data, PLAN_TYPE)
-        stamp_ns, axis, move_id, run, index = read_time(r), r.string(), r.uint64(), r.string(), r.uint32()
+        stamp_ns, axis, move_id, sender = read_time(r), r.string(), r.uint64(), r.string()
+        run, index = r.string(), r.uint32()
         case, law, solver = r.string(), r.string(), r.string()
         omega, x0, x1, duration, energy = (r.float64() for _ in range(5))
         accounting, objective, violation = r.string(), r.float64(), r.float64()
@@ -120,6 +126,6 @@ class PlanRecord:
             raise WireError(f"{PLAN_TYPE}: {len(keys)} certificate keys but {len(values)} values")
         certificate = dict(zip(keys, values, strict=True))
         return cls(
-            stamp_ns, axis, move_id, run, index, case, law, solver, omega, x0, x1, duration, energy,
+            stamp_ns, axis, move_id, sender, run, index, case, law, solver, omega, x0, x1, duration, energy,
             accounting, objective, violation, status, iterations, solve_time, certificate,
         )  # fmt: skip

@@ -193,7 +193,7 @@ def test_plan_record_round_trip_and_reference_codec():
     from axisflow.acquisition import PLAN_TYPE, PlanRecord
 
     rec = PlanRecord(
-        1_700_000_000_000_000_123, "a0", 12, "refit", 7, "min-time-energy", "poly5", "exact", 0.9, 0.12, 0.55,
+        1_700_000_000_000_000_123, "a0", 12, "ab" * 16, "refit", 7, "min-time-energy", "poly5", "exact", 0.9, 0.12, 0.55,
         1.234, 56.7, "positive", 5.81, 0.0, "converged", 0, 4.2e-5,
         {"gap_j": 1e-9, "t_lower_s": 1.2339, "t_upper_s": 1.2341, "dJ_dT": -1e-7},
     )  # fmt: skip
