@@ -193,8 +193,8 @@ def test_plan_record_round_trip_and_reference_codec():
     from axisflow.acquisition import PLAN_TYPE, PlanRecord
 
     rec = PlanRecord(
-        1_700_000_000_000_000_123, "a0", 12, "ab" * 16, "refit", 7, "min-time-energy", "poly5", "exact", 0.9, 0.12, 0.55,
-        1.234, 56.7, "positive", 5.81, 0.0, "converged", 0, 4.2e-5,
+        1_700_000_000_000_000_123, "a0", 12, "ab" * 16, "refit", 7, "min-time-energy", "poly5", "exact",
+        0.9, 0.12, 0.55, 1.234, 56.7, "positive", 5.81, 0.0, "converged", 0, 4.2e-5,
         {"gap_j": 1e-9, "t_lower_s": 1.2339, "t_upper_s": 1.2341, "dJ_dT": -1e-7},
     )  # fmt: skip
     data = rec.encode()
@@ -210,6 +210,6 @@ def test_plan_record_round_trip_and_reference_codec():
     assert (ref.duration_s, ref.energy_j, ref.iterations) == (1.234, 56.7, 0)
     assert dict(zip(ref.certificate_keys, ref.certificate_values, strict=True)) == rec.certificate
     empty = PlanRecord(
-        0, "a0", 1, "", 0, "min-time", "poly3", "ipopt", 0.9, 0, 0.1, 0.3, 1, "signed", 30, 0, "x", 9, 0
+        0, "a0", 1, "", "", 0, "min-time", "poly3", "ipopt", 0.9, 0, 0.1, 0.3, 1, "signed", 30, 0, "x", 9, 0
     )
     assert PlanRecord.decode(empty.encode()).certificate == {}
