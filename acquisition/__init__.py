@@ -33,7 +33,15 @@ from .errors import (
     ZenohConfigError,
 )
 from .keys import AxisKeys, KeyExprError, all_keys, key_for_topic, topic_for_key
-from .log_reader import JointColumns, JointStateColumns, TopicInfo, list_topics, read_joint_states
+from .log_reader import (
+    JointColumns,
+    JointStateColumns,
+    RawMessage,
+    TopicInfo,
+    list_topics,
+    read_joint_states,
+    read_messages,
+)
 from .messages import (
     APPEND,
     JOINT_STATE_TYPE,
@@ -99,6 +107,7 @@ __all__ = [
     "MoveStatus",
     "PlanRecord",
     "PlantConfig",
+    "RawMessage",
     "PlantError",
     "RecordedMessage",
     "RecordingError",
@@ -115,6 +124,7 @@ __all__ = [
     "list_topics",
     "load_plant",
     "read_joint_states",
+    "read_messages",
     "recover",
     "topic_for_key",
     *_NETWORK_NAMES,

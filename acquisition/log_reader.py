@@ -627,6 +627,73 @@ class _TopicRead:
         return RecordingError(f"{self.path} has no topic {self.topic}; its JointState topics: {listed}{cut}")
 
 
+# ---- reading any topic as raw payloads -------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class RawMessage:
+    """One message as stored: MCAP times [ns], sequence and the payload bytes (decode with the type's
+    ``decode``, e.g. :meth:`~axisflow.acquisition.move_status.MoveStatus.decode`)."""
+
+    log_time_ns: int
+    publish_time_ns: int
+    sequence: int
+    data: bytes
+
+
+class _PayloadRead:
+    """Collects the raw messages of one topic of any type (the scan's reader interface)."""
+
+    def __init__(self, path: Path, topic: str, catalog: _Catalog, type_name: str | None) -> None:
+        self.path, self.topic, self.catalog, self.type_name = path, topic, catalog, type_name
+        self.messages: list[RawMessage] = []
+
+    def wanted_ids(self) -> set[int]:
+        wanted = set()
+        for cid, channel in self.catalog.channels.items():
+            if channel.topic != self.topic:
+                continue
+            schema = self.catalog.schema_of(channel)
+            if self.type_name is not None and (schema is None or schema.name != self.type_name):
+                found = schema.name if schema is not None else "no schema"
+                raise RecordingError(f"{self.path}: topic {self.topic} is {found}, not {self.type_name}")
+            wanted.add(cid)
+        return wanted
+
+    def decode(self, buffer: bytes, offsets: np.ndarray, where: str) -> None:
+        offsets = np.sort(offsets)
+        heads = _message_heads(np.frombuffer(buffer, np.uint8), offsets, self.wanted_ids(), where)
+        starts = (offsets + MESSAGE_HEAD_SIZE).tolist()
+        ends = (offsets + RECORD_PREFIX.size + heads["length"].astype(np.int64)).tolist()
+        for i, (a, b) in enumerate(zip(starts, ends, strict=True)):
+            self.messages.append(
+                RawMessage(
+                    int(heads["log_time"][i]),
+                    int(heads["publish_time"][i]),
+                    int(heads["sequence"][i]),
+                    buffer[a:b],
+                )
+            )
+
+
+def read_messages(path: str | Path, topic: str, type_name: str | None = None) -> list[RawMessage]:
+    """Every message of ``topic`` as stored, in file order (a complete, summary-less or truncated file).
+
+    Chunks whose message index does not name the topic's channel are not decompressed, so a few
+    messages (move statuses, plans) are found in a long recording in about the time of one pass over its
+    indexes. ``type_name`` (e.g. ``axisflow_msgs/msg/MoveStatus``) makes a topic of another schema an
+    error. An absent topic gives an empty list.
+    """
+    p = check_mcap(path)
+    with open(p, "rb") as fh:
+        has_footer, summary = _read_summary(fh)
+        catalog = _Catalog(summary)
+        reader = _PayloadRead(p, topic, catalog, type_name)
+        scan = _LogScan(fh, p, catalog, has_footer)
+        scan.run(reader)  # type: ignore[arg-type]  # same interface as _TopicRead
+    return reader.messages
+
+
 # ---- the walk over the file ------------------------------------------------------------------------
 
 

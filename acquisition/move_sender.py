@@ -58,6 +58,11 @@ class MoveSender:
         """every status the bridge published about this sender's moves, in arrival order"""
 
     @property
+    def next_move_id(self) -> int:
+        """The id :meth:`send` gives the next move when none is passed."""
+        return self._next_id
+
+    @property
     def sender_id(self) -> str:
         """This sender's publisher id (hex), as the bridge names it in :attr:`MoveStatus.sender`."""
         return self._pub.gid.hex()

@@ -632,3 +632,35 @@ def test_layout_refuses_what_it_cannot_lay_out():
     assert JointStateLayout.of(b"\x00\x01\x00\x00" + b"\xff" * 12) is None
     with pytest.raises(WireError, match="one value per joint or none"):
         JointStateLayout.for_message(JointState(0, "f", ("a", "b"), (1.0,), (), ()))
+
+
+def test_read_messages_gives_a_topics_payloads_as_stored(tmp_path):
+    """Raw payloads of a rare topic among many JointStates, equal to mcap's own reader's, in order."""
+    from axisflow.acquisition import MOVE_STATUS_TYPE, AxisSample, MoveState, MoveStatus
+    from axisflow.acquisition.log_reader import read_messages
+    from axisflow.acquisition.mcap_writer import Ros2McapWriter
+    from mcap.reader import make_reader
+
+    path = tmp_path / "mixed.mcap"
+    writer = Ros2McapWriter(path, "zstd", chunk_size=8192)
+    state = writer.channel_for("/axisflow/a0/state", "sensor_msgs/msg/JointState")
+    event = writer.channel_for("/axisflow/a0/event", MOVE_STATUS_TYPE)
+    for k in range(3000):
+        writer.add(state, k, k, k, AxisSample(k, "a0", 0.1, 0.0, 0.0, 0.0, 0.0, 0.0).encode())
+        if k % 700 == 0:
+            writer.add(
+                event, k, k + 1, k // 700, MoveStatus(k, "a0", MoveState.STARTED, k // 700 + 1, k).encode()
+            )
+    writer.finish()
+    got = read_messages(path, "/axisflow/a0/event", MOVE_STATUS_TYPE)
+    with open(path, "rb") as fh:
+        ref = [m for _s, _c, m in make_reader(fh).iter_messages(topics=["/axisflow/a0/event"])]
+    assert [(g.log_time_ns, g.publish_time_ns, g.sequence, g.data) for g in got] == [
+        (m.log_time, m.publish_time, m.sequence, m.data) for m in ref
+    ]
+    assert [MoveStatus.decode(g.data).move_id for g in got] == [1, 2, 3, 4, 5]
+    assert read_messages(path, "/nothing/here") == []
+    with pytest.raises(
+        RecordingError, match="is sensor_msgs/msg/JointState, not axisflow_msgs/msg/MoveStatus"
+    ):
+        read_messages(path, "/axisflow/a0/state", MOVE_STATUS_TYPE)

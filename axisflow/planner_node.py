@@ -1,0 +1,290 @@
+"""The online planner node: each move optimised while the previous one runs, sent to the bridge, and
+followed on the bridge's typed move status — the paper's scheme on a live axis.
+
+For each run (a case × law over the way points) the node
+
+1. reads where the axis holds (its latest setpoint) and, if that is not the first way point, sends a
+   minimum-time poly5 move there (way point index 0: not part of the experiment);
+2. plans the move to way point 1 and sends it, then keeps ``lookahead`` planned moves queued behind
+   the running one: each time a move starts, the next is planned (one solve of the planner back-end,
+   the result object as it is) and sent appended, so it starts on the tick the previous one ends;
+3. publishes each plan's :class:`~axisflow.acquisition.plan_record.PlanRecord` on
+   ``<prefix>/<axis>/plan`` before sending the move, so that a recording holds the plans;
+4. follows every move through its statuses: a rejection, a drop, a stop or a vanished bridge ends the
+   run with the bridge's reason; a move that starts later than the end of the one before (the queue
+   ran dry: the plan was late) ends it too, naming the move and the idle ticks.
+
+Per move it reports the solve time and the **slack**: the drive time between the bridge accepting the
+move (the plan ready, sent, validated) and the move's start. Drive time is the bridge's clock: at
+``--speed 1`` it is wall time; at ``--speed 0`` the bridge runs as fast as its consumers allow and
+the slack shrinks accordingly (use a larger lookahead there).
+
+The node sits above the planner and acquisition layers and uses each as it is: a
+:class:`~axisflow.planner.PlannerBackend` and its :class:`~axisflow.planner.PlanResult`, the bridge's
+public move API (:class:`~axisflow.acquisition.move_sender.MoveSender`).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import threading
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import zenoh
+
+from .acquisition import PLAN_TYPE, AxisKeys, MoveCommand, MoveState, MoveStatus, PlanRecord
+from .acquisition.axis_state import AxisState
+from .acquisition.move_sender import MoveSender
+from .acquisition.publisher import SequencedPublisher, Traffic
+from .model import AxisflowError, AxisParams, polynomial_law
+from .planner import Case, ExactBackend, MoveProblem, PlannerBackend, PlanResult
+
+BRIDGE_TIMEOUT_S = 20.0
+_AT_WAYPOINT_M = 1e-9
+_SLOWEST_SPEED = 0.05
+"""the waits assume the bridge runs at least this fraction of real time"""
+
+
+class PlanLateError(AxisflowError):
+    """A move started later than the end of the move before it: the queue ran dry."""
+
+
+@dataclass(frozen=True)
+class NodeRun:
+    """One run of the node: a case and a law over the way points."""
+
+    case: Case
+    law: str
+
+
+@dataclass
+class MoveOutcome:
+    """One move of a run: its plan and what the bridge did with it."""
+
+    index: int
+    """k for the move from way point k − 1 to k; 0 for the move to the first way point"""
+    command: MoveCommand
+    plan: PlanResult
+    accepted: MoveStatus | None = None
+    completed: MoveStatus | None = None
+
+    @property
+    def slack_s(self) -> float:
+        """Drive time from the bridge accepting the move to its start [s]."""
+        assert self.accepted is not None
+        return (self.accepted.start_tick - self.accepted.tick) * 1e-3
+
+
+@dataclass
+class RunReport:
+    run: NodeRun
+    solver: str
+    moves: list[MoveOutcome] = field(default_factory=list)
+
+    @property
+    def experiment(self) -> list[MoveOutcome]:
+        """The moves between way points (without the move to the first one)."""
+        return [m for m in self.moves if m.index > 0]
+
+    @property
+    def idle_ticks(self) -> list[int]:
+        """Ticks between the end of each move and the start of the next, over the experiment."""
+        ticks = [(m.accepted.start_tick, m.accepted.end_tick) for m in self.experiment if m.accepted]
+        return [b[0] - a[1] for a, b in itertools.pairwise(ticks)]
+
+    def summary(self) -> str:
+        moves = self.experiment
+        solve_ms = np.array([m.plan.solve_time_s * 1e3 for m in moves])
+        slack_ms = np.array([m.slack_s * 1e3 for m in moves[1:]]) if len(moves) > 1 else np.array([math.nan])
+        total = math.fsum(m.plan.duration_s for m in moves)
+        energy = math.fsum(m.plan.energy_j for m in moves)
+        return (
+            f"{self.run.case.value} {self.run.law} ({self.solver}): {len(moves)} moves, T = {total:.2f} s, "
+            f"E_th = {energy:.1f} J, solve {solve_ms.mean():.3f} ± {solve_ms.std():.3f} ms, "
+            f"slack min {np.min(slack_ms):.0f} ms, idle ticks {sum(self.idle_ticks)}"
+        )
+
+
+@dataclass(frozen=True)
+class NodeSettings:
+    keys: AxisKeys
+    runs: tuple[NodeRun, ...]
+    omega: float
+    lookahead: int = 1
+    """planned moves kept queued behind the running one (the paper: 1)"""
+    label: str = ""
+    """the plan records' ``run`` label (e.g. nominal, refit)"""
+
+    def __post_init__(self) -> None:
+        if not 1 <= self.lookahead <= 64:
+            raise AxisflowError(f"lookahead = {self.lookahead} moves must be in [1, 64]")
+        if not self.runs:
+            raise AxisflowError("the planner node needs at least one case and one law")
+
+
+class PlannerNode:
+    """The node on one session (see the module docstring); use as a context manager."""
+
+    def __init__(
+        self,
+        session: zenoh.Session,
+        settings: NodeSettings,
+        params: AxisParams,
+        backend: PlannerBackend,
+        progress: Callable[[str], None] | None = None,
+        stop: threading.Event | None = None,
+    ) -> None:
+        self.settings, self.params, self.backend = settings, params, backend
+        self._session = session
+        self._say = progress or (lambda _line: None)
+        self._stop = stop or threading.Event()
+
+    def __enter__(self) -> PlannerNode:
+        keys = self.settings.keys
+        self._sender = MoveSender(self._session, keys)
+        self._setpoint = AxisState(self._session, keys, "setpoint")
+        self._plans = SequencedPublisher(self._session, keys.plan, PLAN_TYPE, Traffic.COMMAND)
+        if not self._sender.wait_for_bridge(BRIDGE_TIMEOUT_S):
+            self.__exit__()
+            raise AxisflowError(
+                f"no bridge for axis {keys.axis!r} answered within {BRIDGE_TIMEOUT_S:g} s ({keys.alive}): "
+                "start `axisflow bridge` first, with the same --axis and Zenoh flags"
+            )
+        return self
+
+    def __exit__(self, *_exc: object) -> None:
+        self._plans.undeclare()
+        self._setpoint.close()
+        self._sender.close()
+
+    # ---- a run -----------------------------------------------------------------------------------
+    def run(self, waypoints_m: Sequence[float]) -> list[RunReport]:
+        """Every run of the settings over ``waypoints_m``, one after the other."""
+        reports = []
+        x_now = self._setpoint.wait(BRIDGE_TIMEOUT_S).position_m
+        for run in self.settings.runs:
+            report = self._run_one(run, waypoints_m, x_now)
+            reports.append(report)
+            self._say(report.summary())
+            x_now = float(waypoints_m[-1])
+        return reports
+
+    def _run_one(self, run: NodeRun, waypoints_m: Sequence[float], x_now: float) -> RunReport:
+        report = RunReport(run, self.backend.name)
+        law = polynomial_law(run.law)
+        problems = [
+            MoveProblem(float(a), float(b), law, run.case, self.settings.omega)
+            for a, b in itertools.pairwise(waypoints_m)
+        ]
+        for p in problems:
+            p.check_stroke(self.params)
+        self.backend.prepare(problems[0], self.params)
+        if abs(x_now - waypoints_m[0]) > _AT_WAYPOINT_M:
+            first = MoveProblem(x_now, float(waypoints_m[0]), polynomial_law("poly5"), Case.MIN_TIME)
+            self._send(report, run, 0, self._plan_exact(first))
+        sent = 0
+        while sent < len(problems) and sent < 1 + self.settings.lookahead:
+            self._send(report, run, sent + 1, self._plan(problems[sent]))
+            sent += 1
+        self._follow(report, problems, sent)
+        return report
+
+    def _plan(self, problem: MoveProblem) -> PlanResult:
+        result = self.backend.solve(problem, self.params)
+        if result.max_violation > 0.0:
+            raise AxisflowError(
+                f"the {result.solver} plan of the move {problem.x0_m:.6g} → {problem.x1_m:.6g} m "
+                f"({problem.law.name}, {problem.case.value}) breaks a limit by {result.max_violation:.3g} "
+                f"(relative) at the 1 kHz samples: status {result.status.value} ({result.message})"
+            )
+        return result
+
+    def _plan_exact(self, problem: MoveProblem) -> PlanResult:
+        return ExactBackend().solve(problem, self.params)
+
+    def _send(self, report: RunReport, run: NodeRun, index: int, plan: PlanResult) -> None:
+        p = plan.problem
+        move_id = self._sender.next_move_id
+        record = PlanRecord(
+            stamp_ns=time.time_ns(),
+            axis=self.settings.keys.axis,
+            move_id=move_id,
+            sender=self._sender.sender_id,
+            run=self.settings.label,
+            waypoint_index=index,
+            case=p.case.value,
+            law=p.law.name,
+            solver=plan.solver,
+            omega=p.omega,
+            start_position_m=p.x0_m,
+            end_position_m=p.x1_m,
+            duration_s=plan.duration_s,
+            energy_j=plan.energy_j,
+            energy_accounting=self.params.energy_accounting.value,
+            objective=plan.objective,
+            max_violation=plan.max_violation,
+            status=plan.status.value,
+            iterations=plan.iterations,
+            solve_time_s=plan.solve_time_s,
+            certificate=plan.certificate.to_dict() if plan.certificate is not None else {},
+        )
+        self._plans.put(record.encode(), record.stamp_ns)
+        cmd = self._sender.send(p.x0_m, p.x1_m, plan.duration_s, law=p.law.name, move_id=move_id)
+        report.moves.append(MoveOutcome(index, cmd, plan))
+
+    def _follow(self, report: RunReport, problems: list[MoveProblem], sent: int) -> None:
+        """Wait on the statuses of the run's moves; plan the next one each time one starts."""
+        pending = {m.command.move_id: m for m in report.moves}
+        while pending or sent < len(problems):
+            if self._stop.is_set():
+                raise KeyboardInterrupt
+            new = self._sender.poll_status()
+            if not new:
+                if not self._sender.bridge_alive:
+                    raise AxisflowError(f"the bridge of axis {self.settings.keys.axis!r} disappeared mid-run")
+                time.sleep(0.0005)
+                continue
+            for status in new:
+                outcome = pending.get(status.move_id)
+                if outcome is None:
+                    continue
+                self._on_status(report, outcome, status)
+                if status.state is MoveState.COMPLETED:
+                    del pending[status.move_id]
+                # the move that started is k: keep `lookahead` planned moves queued behind it
+                while status.state is MoveState.STARTED and sent < len(problems):
+                    if sent - outcome.index >= self.settings.lookahead:
+                        break
+                    nxt = self._plan(problems[sent])
+                    sent += 1
+                    self._send(report, report.run, sent, nxt)
+                    pending[report.moves[-1].command.move_id] = report.moves[-1]
+
+    def _on_status(self, report: RunReport, outcome: MoveOutcome, status: MoveStatus) -> None:
+        if status.state in (MoveState.REJECTED, MoveState.DROPPED, MoveState.STOPPED):
+            raise AxisflowError(
+                f"the bridge {status.state.name.lower()} move {status.move_id}: {status.text}"
+            )
+        if status.state is MoveState.ACCEPTED:
+            outcome.accepted = status
+            before = [m for m in report.moves if m.index > 0 and m.index == outcome.index - 1]
+            if outcome.index > 1 and before and before[0].accepted is not None:
+                idle = status.start_tick - before[0].accepted.end_tick
+                if idle > 0:
+                    raise PlanLateError(
+                        f"move {outcome.index} ({report.run.case.value} {report.run.law}) started {idle} "
+                        f"ticks after move {outcome.index - 1} ended: the plan was late (solve "
+                        f"{outcome.plan.solve_time_s * 1e3:.2f} ms); use a larger --lookahead or a slower "
+                        "bridge"
+                    )
+        elif status.state is MoveState.COMPLETED:
+            outcome.completed = status
+            if outcome.index > 0 and outcome.index % 10 == 0:
+                self._say(
+                    f"  {report.run.case.value} {report.run.law}: move {outcome.index} done, "
+                    f"solve {outcome.plan.solve_time_s * 1e3:.2f} ms, slack {outcome.slack_s * 1e3:.0f} ms"
+                )
