@@ -28,6 +28,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "record_cmd",
     "excite_cmd",
     "identify_cmd",
+    "planner_cmd",
     "replay_cmd",
     "recover_cmd",
 )
