@@ -29,6 +29,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "excite_cmd",
     "identify_cmd",
     "planner_cmd",
+    "table2_cmd",
     "replay_cmd",
     "recover_cmd",
 )

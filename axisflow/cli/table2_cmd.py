@@ -1,0 +1,42 @@
+"""``axisflow table2``: the paper's Table 2 from a recording of planner runs on the axis."""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+from ..acquisition.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
+from ..files import check_output_dir, ensure_dir, write_atomic
+from ..table2 import table_from_recording, table_markdown
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "table2",
+        help="Table 2 from a recording: planned (E_th) against measured (E_exp) energy per run",
+        description="Read a recording of `axisflow planner` runs (plan records, move status, measured "
+        "samples, setpoints) and print the paper's Table 2 per run: T, E_th, E_exp = ∫τ_m·ω_m dt of "
+        "the measured torque and motor speed under the plans' energy accounting, E%, t_opt and the idle "
+        "ticks between moves. Writes DIR/table2.md and DIR/table2.json.",
+    )
+    p.add_argument("recording", metavar="LOG.mcap", help="recording of the planner's runs")
+    p.add_argument("--out", required=True, metavar="DIR", help="output directory (created if missing)")
+    p.add_argument("--label", default=None, help="only the runs with this plan label (default: all)")
+    p.add_argument("--axis", default=DEFAULT_AXIS, help=f"axis name (default: {DEFAULT_AXIS})")
+    p.add_argument("--prefix", default=DEFAULT_PREFIX, help=f"key prefix (default: {DEFAULT_PREFIX})")
+    p.add_argument("--json", action="store_true", help="print table2.json instead of the table")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    out = check_output_dir(args.out)
+    table = table_from_recording(args.recording, AxisKeys(args.axis, args.prefix), args.label)
+    data = table.to_json()
+    markdown = table_markdown(table)
+    ensure_dir(out)
+    write_atomic(out / "table2.json", json.dumps(data, indent=1) + "\n")
+    write_atomic(out / "table2.md", markdown)
+    print(json.dumps(data, indent=1) if args.json else markdown, end="" if not args.json else "\n")
+    if not args.json:
+        print(f"\nwrote {out / 'table2.md'} and {out / 'table2.json'}")
+    return 0
