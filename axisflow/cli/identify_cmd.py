@@ -6,12 +6,12 @@ import argparse
 import json
 
 from ..arguments import add_params_option, finite_float, params_from_args
-from ..files import check_output_dir, ensure_dir, write_atomic
+from ..files import check_output_dir
 from ..identification.fit import PARAMETERS
 from ..identification.preparation import PreparationSettings
-from ..identification.refit import DEFAULT_JOINT, DEFAULT_TOPIC, IdentifySettings, identify
-from ..identification.report import params_file, report_json, report_markdown
-from ..viz.identification_figure import identification_png
+from ..identification.refit import DEFAULT_JOINT, DEFAULT_TOPIC, IdentifySettings
+from ..identification.report import report_markdown
+from ..identify import identify_to
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -87,19 +87,11 @@ def run(args: argparse.Namespace) -> int:
         torque_delay_s=args.torque_delay,
         holdout=args.holdout,
     )
-    ident = identify(args.logs, nominal, settings, validate=args.validate)
-    report = report_json(ident)
-    markdown = report_markdown(report)
-    figure = identification_png(ident.traces())
-    ensure_dir(out)
-    write_atomic(out / "params.toml", params_file(ident))
-    write_atomic(out / "report.json", json.dumps(report, indent=1) + "\n")
-    write_atomic(out / "report.md", markdown)
-    write_atomic(out / "fit.png", figure)
+    _ident, report = identify_to(out, args.logs, nominal, settings, validate=args.validate)
     if args.json:
         print(json.dumps(report, indent=1))
     else:
-        print(markdown, end="")
+        print(report_markdown(report), end="")
         print(
             f"\nwrote {out / 'params.toml'}, {out / 'report.json'}, {out / 'report.md'} and {out / 'fit.png'}"
         )
