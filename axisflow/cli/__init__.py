@@ -32,6 +32,8 @@ COMMAND_MODULES: tuple[str, ...] = (
     "table2_cmd",
     "replay_cmd",
     "recover_cmd",
+    "security_cmd",
+    "router_cmd",
 )
 
 EXIT_USER_ERROR = 2

@@ -1,0 +1,97 @@
+"""``axisflow security init DIR``: a CA, per-role certificates and the Zenoh files of a secure set-up."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from ..acquisition.keys import DEFAULT_PREFIX
+from ..arguments import positive_int
+from ..security import (
+    DEFAULT_DAYS,
+    DEFAULT_HOST,
+    DEFAULT_PORT,
+    DEFAULT_ROLES,
+    SecurityPlan,
+    init_security,
+    parse_roles,
+)
+
+
+def _port(text: str) -> int:
+    value = positive_int(text)
+    if value > 65535:
+        raise argparse.ArgumentTypeError(f"{value} is not a TCP port (1…65535)")
+    return value
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "security",
+        help="generate certificates and Zenoh configs for mTLS + access control",
+        description="Secure deployments: mutual TLS and a default-deny access-control list in which "
+        "only the planner may send moves and quick stops, the bridge publishes telemetry and events, "
+        "a recorder only listens, and nobody else gets anything. See docs/security.md.",
+    )
+    actions = p.add_subparsers(dest="action", metavar="ACTION", required=True)
+    init = actions.add_parser(
+        "init",
+        help="write a CA, per-role certificates/keys and Zenoh JSON5 files into a new folder DIR",
+        description="Write into DIR (which must not exist unless --force): ca.pem, ca.key, and for the "
+        "router and each role NAME.pem (certificate, CN = NAME), NAME.key (private key, mode 0600) and "
+        "NAME.json5 (zenoh config for --zenoh-config). The router listens on tls/HOST:PORT and enforces "
+        "the ACL; the roles connect to it as clients.",
+    )
+    init.add_argument("directory", metavar="DIR", help="the folder to create")
+    init.add_argument(
+        "--prefix", default=DEFAULT_PREFIX, help=f"key prefix the ACL covers (default: {DEFAULT_PREFIX})"
+    )
+    init.add_argument(
+        "--roles",
+        default=",".join(DEFAULT_ROLES),
+        metavar="R1,R2,…",
+        help="roles to issue: planner, bridge, recorder, or KIND-NAME for more identities of a kind "
+        f"(e.g. planner-cell2); default: {','.join(DEFAULT_ROLES)}",
+    )
+    init.add_argument(
+        "--days",
+        type=positive_int,
+        default=DEFAULT_DAYS,
+        metavar="N",
+        help=f"validity of the certificates [days] (default {DEFAULT_DAYS})",
+    )
+    init.add_argument(
+        "--host",
+        default=DEFAULT_HOST,
+        help="the router's IP or DNS name as the roles reach it (put in its certificate; "
+        f"default {DEFAULT_HOST})",
+    )
+    init.add_argument(
+        "--listen-host",
+        default=None,
+        help="the address the router binds if not --host (e.g. 0.0.0.0 for every interface)",
+    )
+    init.add_argument(
+        "--listen-port",
+        type=_port,
+        default=DEFAULT_PORT,
+        metavar="PORT",
+        help=f"the router's TLS port (default {DEFAULT_PORT})",
+    )
+    init.add_argument("--force", action="store_true", help="replace DIR if it exists (its old keys are lost)")
+    init.set_defaults(func=run_init)
+
+
+def run_init(args: argparse.Namespace) -> int:
+    plan = SecurityPlan(
+        directory=Path(args.directory),
+        prefix=args.prefix,
+        roles=parse_roles(args.roles),
+        days=args.days,
+        host=args.host,
+        port=args.listen_port,
+        listen_host=args.listen_host,
+        force=args.force,
+    )
+    print(init_security(plan).format())
+    return 0

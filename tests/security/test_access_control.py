@@ -1,0 +1,312 @@
+"""Who may command an axis, with the files of ``security init``: real Zenoh sessions on loopback — an
+in-process secure router (mTLS + the default-deny ACL), a real bridge with the simulated axis, and a
+client per role (each with its role's certificate)."""
+
+from __future__ import annotations
+
+import threading
+import time
+from contextlib import contextmanager
+
+import pytest
+import zenoh
+from axisflow.acquisition import AxisKeys, BridgeConfig, MoveCommand, MoveSender, MoveState, SimulatedAxis
+from axisflow.acquisition.bridge import run_bridge
+from axisflow.acquisition.move_status import MoveStatus
+from axisflow.acquisition.sim_axis import load_plant
+from axisflow.acquisition.zenoh_config import open_session
+from axisflow.model import load_params
+
+pytestmark = pytest.mark.slow
+
+KEYS = AxisKeys("a0")
+PARAMS = load_params(None)
+
+
+def _drain(sub) -> list:
+    out = []
+    while (sample := sub.try_recv()) is not None:
+        out.append(sample)
+    return out
+
+
+def _wait_until(predicate, timeout_s: float) -> bool:
+    deadline = time.monotonic() + timeout_s
+    while not predicate():
+        if time.monotonic() > deadline:
+            return False
+        time.sleep(0.01)
+    return True
+
+
+class Watcher:
+    """A recorder-identity session subscribed to everything under the prefix (what a recorder gets)."""
+
+    def __init__(self, session: zenoh.Session) -> None:
+        self.samples: list[zenoh.Sample] = []
+        self._sub = session.declare_subscriber("axisflow/**", zenoh.handlers.FifoChannel(100_000))
+        self._open = True
+
+    def collect(self) -> list[zenoh.Sample]:
+        if self._open:
+            self.samples += _drain(self._sub)
+        return self.samples
+
+    def on(self, key: str) -> list[zenoh.Sample]:
+        return [s for s in self.collect() if str(s.key_expr) == key]
+
+    def close(self) -> None:
+        self.collect()
+        self._open = False
+        self._sub.undeclare()
+
+
+@contextmanager
+def secure_bridge(secure):
+    """A real bridge (simulated axis, 2× real time) on the bridge identity, until the block ends."""
+    stop = threading.Event()
+    result = {}
+    with open_session(secure.options("bridge")) as session:
+        drive = SimulatedAxis(load_plant(None, PARAMS), PARAMS, axis="a0")
+        config = BridgeConfig(keys=KEYS, speed=2.0)
+        thread = threading.Thread(
+            target=lambda: result.update(report=run_bridge(session, drive, PARAMS, config, stop))
+        )
+        thread.start()
+        try:
+            yield result
+        finally:
+            stop.set()
+            thread.join(timeout=30)
+            drive.close()
+    assert not thread.is_alive()
+
+
+@contextmanager
+def watching(secure):
+    with open_session(secure.options("recorder")) as session:
+        watcher = Watcher(session)
+        try:
+            yield watcher
+        finally:
+            watcher.close()
+
+
+def test_the_planners_moves_reach_the_bridge_and_the_recorder_sees_everything(secure, router):
+    with watching(secure) as watcher, secure_bridge(secure) as bridge:
+        with open_session(secure.options("planner")) as planner, MoveSender(planner, KEYS) as sender:
+            assert sender.wait_for_bridge(10.0)
+            sender.send(0.0, 0.2, 0.6)
+            sender.send(0.2, 0.1, 0.6)
+            done = sender.wait_status(2, {MoveState.COMPLETED}, 20.0)
+            assert done is not None and done.state is MoveState.COMPLETED
+            assert {s.state for s in sender.statuses if s.move_id == 1} >= {
+                MoveState.ACCEPTED,
+                MoveState.COMPLETED,
+            }
+        assert _wait_until(lambda: len(watcher.on(KEYS.event)) >= 6, 5.0)
+    report = bridge["report"]
+    assert (report.moves_accepted, report.moves_completed, report.moves_rejected) == (2, 2, 0)
+    assert len(watcher.on(KEYS.trajectory)) == 2  # the recorder identity reads moves ...
+    assert len(watcher.on(KEYS.state)) > 100  # ... and telemetry
+
+
+@pytest.mark.parametrize("identity", ["recorder", "bridge"])
+def test_an_identity_other_than_the_planner_gets_no_move_to_the_bridge(secure, router, identity):
+    """Its MoveSender (publisher, sender token, everything) is refused by the router: the bridge never
+    hears of its move — not even to reject it — and a recorder records nothing of it. A planner's move
+    sent afterwards shows the path works."""
+    with (
+        watching(secure) as watcher,
+        secure_bridge(secure) as bridge,
+        open_session(secure.options(identity)) as intruder,
+        MoveSender(intruder, KEYS) as bad,
+        open_session(secure.options("planner")) as planner,
+        MoveSender(planner, KEYS) as good,
+    ):
+        assert good.wait_for_bridge(10.0)
+        for _ in range(3):
+            bad.send(0.0, 0.3, 0.8, move_id=666)
+        time.sleep(0.3)
+        good.send(0.0, 0.2, 0.6, move_id=1)
+        accepted = good.wait_status(1, {MoveState.ACCEPTED}, 10.0)
+        assert accepted is not None and accepted.state is MoveState.ACCEPTED
+        time.sleep(0.5)
+        assert bad.poll_status() == []
+    report = bridge["report"]
+    assert (report.moves_accepted, report.moves_rejected, report.moves_missed) == (1, 0, 0)
+    moves = [MoveCommand.decode(s.payload.to_bytes()) for s in watcher.on(KEYS.trajectory)]
+    assert [m.move_id for m in moves] == [1]
+    events = [MoveStatus.decode(s.payload.to_bytes()) for s in watcher.on(KEYS.event)]
+    assert {e.move_id for e in events} == {1}
+
+
+# (identity, key, delivered): every put that matters, observed by a recorder identity in another session
+PUTS = [
+    ("planner", KEYS.trajectory, True),
+    ("planner", KEYS.stop, True),
+    ("planner", KEYS.state, False),  # a planner cannot fake telemetry ...
+    ("planner", KEYS.event, False),  # ... nor move statuses
+    ("bridge", KEYS.state, True),
+    ("bridge", KEYS.setpoint, True),
+    ("bridge", KEYS.event, True),
+    ("bridge", KEYS.trajectory, False),
+    ("bridge", KEYS.stop, False),
+    ("recorder", KEYS.state, False),  # a recorder only listens
+    ("recorder", KEYS.trajectory, False),
+    ("recorder", KEYS.stop, False),
+    ("recorder", KEYS.event, False),
+]
+
+
+def test_each_identity_puts_only_on_its_keys(secure, router):
+    sessions = {name: open_session(secure.options(name)) for name in ("planner", "bridge", "recorder")}
+    try:
+        with watching(secure) as watcher:
+            time.sleep(0.5)  # the watcher's subscription reaches the router and the publishers
+            for identity, key, _ in PUTS:
+                for _ in range(3):
+                    sessions[identity].put(key, f"{identity}->{key}".encode())
+            expected = {f"{i}->{k}" for i, k, ok in PUTS if ok}
+            _wait_until(lambda: {s.payload.to_bytes().decode() for s in watcher.collect()} >= expected, 5.0)
+            time.sleep(0.5)  # anything denied would have arrived by now
+            got = {s.payload.to_bytes().decode() for s in watcher.collect()}
+    finally:
+        for session in sessions.values():
+            session.close()
+    assert got == expected
+
+
+def test_a_quick_stop_reaches_a_bridge_identity_only_from_the_planner(secure, router):
+    with open_session(secure.options("bridge")) as bridge_session:
+        stops = bridge_session.declare_subscriber(KEYS.stop, zenoh.handlers.FifoChannel(100))
+        try:
+            with (
+                open_session(secure.options("planner")) as planner,
+                open_session(secure.options("recorder")) as recorder,
+            ):
+                time.sleep(0.5)
+                recorder.put(KEYS.stop, b"recorder")
+                planner.put(KEYS.stop, b"planner")
+                got: list[bytes] = []
+                assert _wait_until(
+                    lambda: bool(got.extend(s.payload.to_bytes() for s in _drain(stops))) or got, 5.0
+                )
+                time.sleep(0.5)  # the recorder's, had it passed, would have arrived by now
+                got += [s.payload.to_bytes() for s in _drain(stops)]
+        finally:
+            stops.undeclare()
+    assert got == [b"planner"]
+
+
+def test_a_peer_without_a_valid_certificate_gets_nothing(secure, other_ca, router, tmp_path):
+    """Zenoh's own open() of a TLS peer returns a session whatever the handshake did (the reason for
+    the connection check); such a session, subscribed to everything while the bridge publishes, gets
+    no sample and no router."""
+    import json
+
+    no_cert = tmp_path / "no-cert.json5"
+    no_cert.write_text(
+        json.dumps(
+            {
+                "mode": "peer",
+                "connect": {"endpoints": [f"tls/127.0.0.1:{secure.port}"]},
+                "listen": {"endpoints": []},
+                "scouting": {"multicast": {"enabled": False}},
+                "transport": {"link": {"tls": {"root_ca_certificate": str(secure.directory / "ca.pem")}}},
+            }
+        )
+    )
+    plain_tcp = zenoh.Config()
+    plain_tcp.insert_json5("mode", '"peer"')
+    plain_tcp.insert_json5("scouting/multicast/enabled", "false")
+    plain_tcp.insert_json5("listen/endpoints", "[]")
+    plain_tcp.insert_json5("connect/endpoints", json.dumps([f"tcp/127.0.0.1:{secure.port}"]))
+    other = zenoh.Config.from_file(str(other_ca.config("recorder")))
+    other.insert_json5("mode", '"peer"')
+    other.insert_json5("listen/endpoints", "[]")
+    for key in ("root_ca_certificate", "connect_certificate", "connect_private_key"):
+        value = json.loads(other.get_json(f"transport/link/tls/{key}"))
+        other.insert_json5(f"transport/link/tls/{key}", json.dumps(str(other_ca.directory / value)))
+    configs = {
+        "no certificate": zenoh.Config.from_file(str(no_cert)),
+        "plain tcp": plain_tcp,
+        "other CA": other,
+    }
+    with secure_bridge(secure) as bridge, watching(secure) as control:
+        outsiders = {name: zenoh.open(config) for name, config in configs.items()}
+        try:
+            subs = {
+                name: s.declare_subscriber("axisflow/**", zenoh.handlers.FifoChannel(10_000))
+                for name, s in outsiders.items()
+            }
+            time.sleep(1.5)
+            received = {name: len(_drain(sub)) for name, sub in subs.items()}
+            linked = {
+                name: list(s.info.routers_zid()) + list(s.info.peers_zid()) for name, s in outsiders.items()
+            }
+            for sub in subs.values():
+                sub.undeclare()
+        finally:
+            for s in outsiders.values():
+                s.close()
+        assert len(control.on(KEYS.state)) > 100  # the bridge was publishing all along
+    assert received == {name: 0 for name in configs}
+    assert linked == {name: [] for name in configs}
+    assert bridge["report"].ticks > 0
+
+
+def test_the_commands_take_the_files_router_bridge_record(cli, tmp_path):
+    """`axisflow router`, `bridge` and `record` with the files of `security init`: the planner's move
+    runs; a move sent with the recorder's identity reaches neither the bridge nor the recording."""
+    import json
+    import signal
+
+    from axisflow.acquisition.recording import iter_recording
+
+    from axisflow.security import SecurityPlan, init_security
+
+    from .conftest import Secure, free_port
+
+    port = free_port()
+    secure = Secure(tmp_path / "sec", port)
+    init_security(SecurityPlan(secure.directory, port=port, days=1))
+    router = cli.start("router", "--zenoh-config", str(secure.config("router")))
+    assert "listening on" in router.stdout.readline()
+    out = tmp_path / "session.mcap"
+    rec = cli.start("record", "-o", str(out), "--zenoh-config", str(secure.config("recorder")))
+    assert _wait_until(lambda: out.exists() and out.stat().st_size > 0, 30.0)
+    bridge = cli.start(
+        "bridge", "--sim", "--zenoh-config", str(secure.config("bridge")), "--duration", "60", "--json"
+    )
+    with (
+        open_session(secure.options("planner")) as planner,
+        MoveSender(planner, KEYS) as sender,
+        open_session(secure.options("recorder")) as intruder,
+        MoveSender(intruder, KEYS) as bad,
+    ):
+        assert sender.wait_for_bridge(30.0)
+        time.sleep(0.5)  # the recorder's subscription has reached the router (it opened its file first)
+        bad.send(0.0, 0.3, 0.8, move_id=666)
+        sender.send(0.0, 0.2, 0.6, move_id=1)
+        done = sender.wait_status(1, {MoveState.COMPLETED}, 20.0)
+        assert done is not None and done.state is MoveState.COMPLETED
+        bad.send(0.2, 0.3, 0.8, move_id=667)
+        time.sleep(0.5)
+    bridge.send_signal(signal.SIGINT)
+    bridge_out, bridge_err = cli.finish(bridge)
+    assert bridge.returncode == 0, bridge_err
+    report = json.loads(bridge_out)
+    assert (report["moves_accepted"], report["moves_rejected"], report["moves_missed"]) == (1, 0, 0)
+    rec.send_signal(signal.SIGINT)
+    _rec_out, rec_err = cli.finish(rec)
+    assert rec.returncode == 0, rec_err
+    router.send_signal(signal.SIGTERM)
+    router_out, router_err = cli.finish(router)
+    assert router.returncode == 0, router_err
+    assert "router stopped" in router_out
+    topics: dict[str, list[bytes]] = {}
+    for m in iter_recording(out):
+        topics.setdefault(m.channel.topic, []).append(m.message.data)
+    assert [MoveCommand.decode(data).move_id for data in topics["/axisflow/a0/trajectory"]] == [1]
+    assert len(topics["/axisflow/a0/state"]) > 500
