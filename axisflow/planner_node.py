@@ -116,12 +116,17 @@ class NodeSettings:
     omega: float
     lookahead: int = 1
     """planned moves kept queued behind the running one (the paper: 1)"""
+    lookahead_s: float = 0.0
+    """and at least this much drive time queued behind it [s]: a bridge at --speed 0 runs ~10× real
+    time, so a planner process that loses the CPU for 0.1 s needs a second of drive time queued"""
     label: str = ""
     """the plan records' ``run`` label (e.g. nominal, refit)"""
 
     def __post_init__(self) -> None:
         if not 1 <= self.lookahead <= 64:
             raise AxisflowError(f"lookahead = {self.lookahead} moves must be in [1, 64]")
+        if not 0.0 <= self.lookahead_s <= 600.0:
+            raise AxisflowError(f"lookahead = {self.lookahead_s} s of drive time must be in [0, 600] s")
         if not self.runs:
             raise AxisflowError("the planner node needs at least one case and one law")
 
@@ -187,11 +192,17 @@ class PlannerNode:
             first = MoveProblem(x_now, float(waypoints_m[0]), polynomial_law("poly5"), Case.MIN_TIME)
             self._send(report, run, 0, self._plan_exact(first))
         sent = 0
-        while sent < len(problems) and sent < 1 + self.settings.lookahead:
+        while sent < len(problems) and self._wants_more(report, running=1):
             self._send(report, run, sent + 1, self._plan(problems[sent]))
             sent += 1
         self._follow(report, problems, sent)
         return report
+
+    def _wants_more(self, report: RunReport, running: int) -> bool:
+        """Whether fewer than the lookahead's moves (or drive time) are queued behind move ``running``."""
+        behind = [m for m in report.moves if m.index > running]
+        queued_s = math.fsum(m.plan.duration_s for m in behind)
+        return len(behind) < self.settings.lookahead or queued_s < self.settings.lookahead_s
 
     def _plan(self, problem: MoveProblem) -> PlanResult:
         result = self.backend.solve(problem, self.params)
@@ -255,9 +266,9 @@ class PlannerNode:
                 self._on_status(report, outcome, status)
                 if status.state is MoveState.COMPLETED:
                     del pending[status.move_id]
-                # the move that started is k: keep `lookahead` planned moves queued behind it
+                # the move that started is k: keep the lookahead queued behind it
                 while status.state is MoveState.STARTED and sent < len(problems):
-                    if sent - outcome.index >= self.settings.lookahead:
+                    if not self._wants_more(report, running=outcome.index):
                         break
                     nxt = self._plan(problems[sent])
                     sent += 1

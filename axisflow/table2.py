@@ -38,7 +38,7 @@ from .acquisition import (
     topic_for_key,
 )
 from .model import EXECUTION_PERIOD_NS, EXECUTION_PERIOD_S, AxisflowError, EnergyAccounting, trace_energy
-from .paper import PAPER_TABLE2
+from .paper import PAPER_TABLE2, PAPER_WAYPOINTS
 
 
 @dataclass
@@ -218,7 +218,8 @@ def table_markdown(table: RecordedTable, title: str = "") -> str:
         "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for row in table.rows:
-        paper = PAPER_TABLE2.get((row.case, row.law))
+        # the paper's figures beside a row of the same size only (99 moves between 100 way points)
+        paper = PAPER_TABLE2.get((row.case, row.law)) if len(row.moves) == PAPER_WAYPOINTS - 1 else None
         t = row.solve_times_ms
         std = t.std(ddof=1) if t.size > 1 else 0.0
         ref = (
@@ -236,6 +237,7 @@ def table_markdown(table: RecordedTable, title: str = "") -> str:
         "",
         "T: Σ planned durations; E_th: Σ model energy of the plans; E_exp: Σ ∫ g(τ_m·ω_m) dt of the measured "
         "motor torque and speed over each move's ticks, g the same accounting; E% = (E_th − E_exp)/E_th; "
-        "t_opt: solve time per move, mean ± std; idle ticks: setpoint samples between consecutive moves.",
+        "t_opt: solve time per move, mean ± std; idle ticks: setpoint samples between consecutive moves. "
+        f"The paper's figures are shown for runs of {PAPER_WAYPOINTS} way points.",
     ]
     return "\n".join(lines) + "\n"

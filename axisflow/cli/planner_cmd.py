@@ -83,6 +83,13 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="planned moves kept queued behind the running one (default 1, the paper's scheme; more for a "
         "bridge at --speed 0)",
     )
+    p.add_argument(
+        "--lookahead-s",
+        type=finite_float,
+        default=0.0,
+        metavar="S",
+        help="and at least S seconds of drive time queued (default 0; e.g. 3 for a bridge at --speed 0)",
+    )
     p.add_argument("--label", default="", help="label of this run in the plan records (e.g. nominal, refit)")
     p.add_argument("--axis", default=DEFAULT_AXIS, help=f"axis name (default: {DEFAULT_AXIS})")
     p.add_argument("--prefix", default=DEFAULT_PREFIX, help=f"key prefix (default: {DEFAULT_PREFIX})")
@@ -105,6 +112,7 @@ def run(args: argparse.Namespace) -> int:
         runs=tuple(NodeRun(Case(c), law) for c in args.case for law in args.law),
         omega=args.omega,
         lookahead=args.lookahead,
+        lookahead_s=args.lookahead_s,
         label=args.label,
     )
     if not 0.0 <= args.omega <= 1.0:
