@@ -19,6 +19,7 @@ from ..model import AxisflowError
 
 # command modules, in the order --help lists them
 COMMAND_MODULES: tuple[str, ...] = (
+    "demo_cmd",
     "params_cmd",
     "plan_cmd",
     "experiment_cmd",
