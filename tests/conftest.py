@@ -1,4 +1,4 @@
-"""Fixtures for the acquisition tests: free loopback ports, `axisflow` subprocesses, MCAP reading."""
+"""Fixtures for every test package: free loopback ports, `axisflow` subprocesses, MCAP reading."""
 
 from __future__ import annotations
 

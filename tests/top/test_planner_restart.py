@@ -1,0 +1,61 @@
+"""Killing the planner mid-run leaves the axis at rest (the bridge drops its queued moves), and the
+planner, restarted, carries on from where the axis is (separate processes, as users run them)."""
+
+import signal
+import time
+
+import pytest
+import zenoh
+from axisflow.acquisition import AxisKeys, AxisSample, MoveState, MoveStatus, ZenohOptions, open_session
+
+KEYS = AxisKeys()
+
+
+@pytest.mark.slow
+def test_a_killed_planner_leaves_the_axis_at_rest_and_a_restart_carries_on(cli, tmp_path, port):
+    points = tmp_path / "points.txt"
+    points.write_text("0.1\n0.7\n0.2\n0.6\n0.3\n")
+    endpoint = f"tcp/127.0.0.1:{port}"
+    bridge = cli.start("bridge", "--sim", "--speed", "2", "--listen", endpoint, "--json")
+    planner_args = ("planner", "--waypoints", str(points), "--case", "min-time-energy", "--connect", endpoint)
+    with open_session(ZenohOptions.loopback(connect_port=port)) as watch:
+        events = watch.declare_subscriber(KEYS.event, zenoh.handlers.FifoChannel(10_000))
+        setpoints = watch.declare_subscriber(KEYS.setpoint, zenoh.handlers.RingChannel(1))
+        statuses: list[MoveStatus] = []
+
+        def wait_for(state, count, timeout_s=60.0):
+            deadline = time.monotonic() + timeout_s
+            while time.monotonic() < deadline:
+                while (s := events.try_recv()) is not None:
+                    statuses.append(MoveStatus.decode(s.payload.to_bytes()))
+                if sum(st.state is state for st in statuses) >= count:
+                    return
+                time.sleep(0.02)
+            pytest.fail(f"fewer than {count} {state.name} statuses in {timeout_s} s: {statuses}")
+
+        first = cli.start(*planner_args)
+        wait_for(MoveState.COMPLETED, 2)  # the move to 0.1 m and the first move of the run
+        first.send_signal(signal.SIGKILL)
+        first.wait(10)
+        wait_for(MoveState.DROPPED, 1)  # its queued moves go with it ...
+        wait_for(MoveState.COMPLETED, 3)  # ... while the running one ends, at rest
+        time.sleep(0.5)
+        rest = AxisSample.decode(setpoints.try_recv().payload.to_bytes())
+        assert rest.velocity_m_s == 0.0
+        stopped_at = rest.position_m
+        completed = [st for st in statuses if st.state is MoveState.COMPLETED]
+        assert stopped_at == pytest.approx(0.2)  # 0.1 → 0.7 → 0.2 ran; 0.2 → 0.6 was dropped
+
+        restart = cli.run(*planner_args, "--json", timeout=120)
+        assert restart.returncode == 0, restart.stderr
+        events.undeclare()
+        setpoints.undeclare()
+    bridge.send_signal(signal.SIGINT)
+    out, err = cli.finish(bridge)
+    assert '"moves_rejected": 0' in out, out + err
+    assert len(completed) == 3
+    # the restart began from where the axis was: a move from 0.2 m to the first way point, then the run
+    import json
+
+    (report,) = json.loads(restart.stdout)
+    assert report["moves"] == 4 and report["idle_ticks"] == [0, 0, 0]

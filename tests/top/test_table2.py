@@ -1,0 +1,97 @@
+"""Table 2 from a recording, on a recording made here whose measured energy is known in closed form."""
+
+import math
+
+import numpy as np
+import pytest
+from axisflow.acquisition import (
+    JOINT_STATE_TYPE,
+    MOVE_STATUS_TYPE,
+    PLAN_TYPE,
+    AxisSample,
+    MoveState,
+    MoveStatus,
+    PlanRecord,
+)
+from axisflow.acquisition.mcap_writer import Ros2McapWriter
+from axisflow.model import AxisflowError
+
+from axisflow.table2 import table_from_recording, table_markdown
+
+T0 = 1_700_000_000_000_000_000
+MS = 1_000_000
+SENDER = "cd" * 16
+# three moves: (ticks, planned energy [J], motor speed amplitude [rad/s], torque amplitude [N·m])
+MOVES = [(400, 10.0, 50.0, 1.0), (600, 12.0, 40.0, 2.0), (500, 8.0, 30.0, 1.5)]
+GAP = 7  # idle ticks between move 2 and move 3
+
+
+def _write(path, accounting="positive"):
+    """Moves back to back except a gap before the third; over each move ω(t) = W·sin(πt/T) and
+    τ(t) = Q·cos(πt/T): power W·Q/2·sin(2πt/T), signed energy 0, positive energy W·Q·T/(2π)."""
+    w = Ros2McapWriter(path, "zstd", chunk_size=16384)
+    state = w.channel_for("/axisflow/a0/state", JOINT_STATE_TYPE)
+    setpoint = w.channel_for("/axisflow/a0/setpoint", JOINT_STATE_TYPE)
+    event = w.channel_for("/axisflow/a0/event", MOVE_STATUS_TYPE)
+    plan = w.channel_for("/axisflow/a0/plan", PLAN_TYPE)
+    tick, spans = 100, []
+    for k, (n, e_th, _w, _q) in enumerate(MOVES, start=1):
+        if k == 3:
+            tick += GAP
+        spans.append((tick, tick + n))
+        x0 = 0.1 * k
+        record = PlanRecord(
+            T0 + k, "a0", k, SENDER, "test", k, "min-time", "poly5", "exact", 0.9, x0, x0 + 0.1,
+            n / 1000, e_th, accounting, n / 10, 0.0, "converged", 0, 1e-4 * k,
+        )  # fmt: skip
+        w.add(plan, T0, T0, k, record.encode())
+        st = MoveStatus(T0 + tick * MS, "a0", MoveState.ACCEPTED, k, tick, tick, tick + n, SENDER, "")
+        w.add(event, T0, T0, 2 * k, st.encode())
+        tick += n
+    total = tick + 50
+    omega = np.zeros(total)
+    torque = np.zeros(total)
+    moving = np.zeros(total, bool)
+    for (start, end), (n, _e, amp_w, amp_q) in zip(spans, MOVES, strict=True):
+        t = np.arange(n + 1) / n
+        omega[start : end + 1] = amp_w * np.sin(math.pi * t)
+        torque[start : end + 1] = amp_q * np.cos(math.pi * t)
+        moving[start:end] = True
+    for k in range(total):
+        stamp = T0 + k * MS
+        sample = AxisSample(stamp, "a0", 0.0, 0.0, 0.0, 0.0, float(omega[k]), float(torque[k]))
+        w.add(state, stamp, stamp, k, sample.encode())
+        sp = AxisSample(stamp, "a0", 0.0, 0.1 if moving[k] else 0.0, 0.0, 0.0, 0.0, 0.0)
+        w.add(setpoint, stamp, stamp, k, sp.encode())
+    for k, (start, end) in enumerate(spans, start=1):
+        done = MoveStatus(T0 + end * MS, "a0", MoveState.COMPLETED, k, end, start, end, SENDER, "")
+        w.add(event, T0, T0, 10 + k, done.encode())
+    w.finish()
+    return path
+
+
+def test_measured_energy_idle_ticks_and_the_row(tmp_path):
+    table = table_from_recording(_write(tmp_path / "t.mcap"))
+    (row,) = table.rows
+    # ∫ max(P, 0) dt over each move: W·Q·T/(2π), T = n ms (the trapezoid at 1 kHz over the kink of
+    # max(P, 0) at T/2: within 1e-4)
+    expected = [amp_w * amp_q * (n / 1000) / (2 * math.pi) for n, _e, amp_w, amp_q in MOVES]
+    assert [m.energy_measured_j for m in row.moves] == pytest.approx(expected, rel=1e-4)
+    assert row.energy_model_j == 30.0 and row.total_time_s == pytest.approx(1.5)
+    assert row.energy_error_pct == pytest.approx((30.0 - sum(expected)) / 30.0 * 100.0, rel=1e-4)
+    assert row.idle_ticks == [0, GAP]
+    data = row.to_json()
+    assert data["t_opt_ms_mean"] == pytest.approx(0.2) and data["moves_completed"] == 3
+    assert {"energy_measured_j", "energy_error_pct", "idle_ticks", "durations_s"} <= set(data)
+    assert "| min-time | poly5 | exact | 3/3 | 1.50 | 30 |" in table_markdown(table)
+
+
+def test_the_accounting_is_the_plans(tmp_path):
+    table = table_from_recording(_write(tmp_path / "s.mcap", accounting="signed"))
+    assert [m.energy_measured_j for m in table.rows[0].moves] == pytest.approx([0, 0, 0], abs=1e-9)
+
+
+def test_a_recording_without_plans_is_a_clear_error(tmp_path):
+    path = _write(tmp_path / "t.mcap")
+    with pytest.raises(AxisflowError, match="holds no plan records on /axisflow/a0/plan labelled 'other'"):
+        table_from_recording(path, label="other")
