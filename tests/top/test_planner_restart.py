@@ -34,7 +34,8 @@ def test_a_killed_planner_leaves_the_axis_at_rest_and_a_restart_carries_on(cli, 
             pytest.fail(f"fewer than {count} {state.name} statuses in {timeout_s} s: {statuses}")
 
         first = cli.start(*planner_args)
-        wait_for(MoveState.COMPLETED, 2)  # the move to 0.1 m and the first move of the run
+        # the move to 0.1 m, the moves to 0.7 and 0.2 m, and — once 0.7 → 0.2 runs — the one to 0.6 m
+        wait_for(MoveState.ACCEPTED, 4)
         first.send_signal(signal.SIGKILL)
         first.wait(10)
         wait_for(MoveState.DROPPED, 1)  # its queued moves go with it ...
