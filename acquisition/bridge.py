@@ -38,9 +38,10 @@ from functools import partial
 
 import zenoh
 
-from ..model import EXECUTION_PERIOD_NS, AxisParams, ticks_to_seconds
+from ..model import EXECUTION_PERIOD_NS, AxisParams, stop_profile, ticks_to_seconds
+from .attachment import unpack_attachment
 from .drive import Drive
-from .errors import AcquisitionError
+from .errors import AcquisitionError, WireError
 from .histogram import DurationHistogram, DurationStats
 from .keys import AxisKeys, sender_of_token
 from .messages import JOINT_STATE_TYPE
@@ -48,6 +49,7 @@ from .move_intake import MoveIntake, ReceivedMove
 from .move_queue import DEFAULT_JUMP_TOLERANCE_M, MoveQueue, QueuedMove, validate_move
 from .move_status import MOVE_STATUS_TYPE, NO_TICK, MoveState, MoveStatus
 from .publisher import SequencedPublisher, Traffic, wait_for_subscribers
+from .quick_stop import STOP_MOVE_ID, QuickStop
 
 log = logging.getLogger(__name__)
 
@@ -98,6 +100,7 @@ class BridgeReport:
     """queued moves dropped because their sender disappeared"""
     moves_missed: int = 0
     """moves lost on the way, from the senders' sequence numbers"""
+    quick_stops: int = 0
     period_jitter: DurationStats | None = None
     """|tick-start period − 1 ms/speed| [µs]; None at speed 0"""
     rejections: list[str] = field(default_factory=list)
@@ -126,6 +129,7 @@ class BridgeReport:
             "moves_completed": self.moves_completed,
             "moves_dropped": self.moves_dropped,
             "moves_missed": self.moves_missed,
+            "quick_stops": self.quick_stops,
             "period_jitter": self.period_jitter.to_dict() if self.period_jitter else None,
             "rejections": self.rejections,
         }
@@ -173,6 +177,9 @@ class Bridge:
             self._status_pub = stack.enter_context(
                 SequencedPublisher(session, keys.event, MOVE_STATUS_TYPE, Traffic.COMMAND)
             )
+            self._stops = stack.enter_context(
+                session.declare_subscriber(keys.stop, zenoh.handlers.FifoChannel(64))
+            )
             stack.enter_context(session.liveliness().declare_token(keys.alive))
         except BaseException:
             stack.close()
@@ -205,12 +212,16 @@ class Bridge:
         if queue is None:
             raise AcquisitionError("Bridge.step() needs the bridge entered (use it as a context manager)")
         self._apply_sender_tokens()
+        self._take_stops()
         self._take_moves()
         sample = self.drive.read()
         self._state_pub.put(sample.encode())
         step = queue.advance(self.tick)
         for done in step.finished:
-            self._status(MoveState.COMPLETED, done, f"completed move {done.command.move_id}")
+            if done.stop is not None:
+                self._stopped(done)
+            else:
+                self._status(MoveState.COMPLETED, done, f"completed move {done.command.move_id}")
         if step.started is not None:
             q = step.started
             self._status(MoveState.STARTED, q, f"started move {q.command.move_id}")
@@ -280,6 +291,57 @@ class Bridge:
                 queued,
                 f"accepted move {cmd.move_id}: start tick {queued.start_tick}, end tick {queued.end_tick}",
             )
+
+    def _take_stops(self) -> None:
+        """Quick stops requested since the last tick (each answered with statuses, see quick_stop.py)."""
+        assert self._queue is not None
+        while (sample := self._stops.try_recv()) is not None:
+            att = sample.attachment
+            parsed = unpack_attachment(att.to_bytes()) if att is not None else None
+            sender = parsed[2] if parsed is not None else b""
+            try:
+                reason = QuickStop.decode(sample.payload.to_bytes()).reason
+            except WireError as exc:
+                reason = f"(undecodable request: {exc})"
+            self.report.quick_stops += 1
+            log.warning("quick stop at tick %d: %s", self.tick, reason or "no reason given")
+            for received, _deadline in self._pending:
+                self._reject(received, "a quick stop was requested before it was queued")
+            self._pending.clear()
+            outcome = self._queue.quick_stop(self.tick, sender)
+            for q in outcome.dropped:
+                self._status(MoveState.DROPPED, q, f"dropped move {q.command.move_id}: quick stop")
+            self.report.moves_dropped += len(outcome.dropped)
+            if outcome.interrupted is not None:
+                q = outcome.interrupted
+                self._status(
+                    MoveState.STOPPED,
+                    q,
+                    f"stopped move {q.command.move_id} at {outcome.speed_m_s:+.4g} m/s: quick stop",
+                )
+            if outcome.braking is None:
+                ends = outcome.kept.end_tick if outcome.kept is not None else self.tick
+                text = (
+                    f"quick stop: move {outcome.kept.command.move_id} reaches rest sooner on its own course "
+                    f"(at tick {ends}, {outcome.kept.move.x1_m:.6g} m)"
+                    if outcome.kept is not None
+                    else "quick stop: the axis was at rest"
+                )
+                self._publish(MoveStatus(self._stamp(), self.keys.axis, MoveState.STOPPED, STOP_MOVE_ID,
+                                         self.tick, self.tick, ends, sender.hex(), text))  # fmt: skip
+
+    def _stopped(self, braking: QueuedMove) -> None:
+        """The braking profile of a quick stop has brought the axis to rest."""
+        profile = braking.stop
+        assert profile is not None
+        fastest = stop_profile(braking.move.x0_m, float(braking.move.sample(0.0).velocity_m_s), self.params)
+        self._status(
+            MoveState.STOPPED,
+            braking,
+            f"quick stop: at rest at {braking.move.x1_m:.6g} m after {profile.distance_m * 1e3:.2f} mm and "
+            f"{profile.time_s * 1e3:.1f} ms (the axis's physical minimum with the nominal parameters: "
+            f"{fastest.distance_m * 1e3:.2f} mm, {fastest.time_s * 1e3:.1f} ms)",
+        )
 
     # ---- move status ------------------------------------------------------------------------------
     def _status(self, state: MoveState, q: QueuedMove, text: str) -> None:

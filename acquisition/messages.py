@@ -9,6 +9,7 @@ definition with its dependencies, as rosbag2 stores it) so that any tool decodes
   polynomial law, or (law ``sampled``) a path given by its :class:`Knots`.
 * ``axisflow_msgs/msg/MoveStatus`` — :class:`~axisflow.acquisition.move_status.MoveStatus`; what a
   bridge did with each move (accepted, rejected with the reason, started, completed, dropped).
+* ``axisflow_msgs/msg/QuickStop`` — :class:`~axisflow.acquisition.quick_stop.QuickStop`; stop now.
 * ``axisflow_msgs/msg/PlanResult`` — :class:`~axisflow.acquisition.plan_record.PlanRecord`; what a
   planner decided for each move (duration, model energy, objective, solver status, certificate).
 
@@ -34,6 +35,7 @@ from .cdr import (
 from .errors import WireError
 from .move_status import MOVE_STATUS_SCHEMA, MOVE_STATUS_TYPE
 from .plan_record import PLAN_SCHEMA, PLAN_TYPE
+from .quick_stop import QUICK_STOP_SCHEMA, QUICK_STOP_TYPE
 
 JOINT_STATE_TYPE = "sensor_msgs/msg/JointState"
 MOVE_TYPE = "axisflow_msgs/msg/Move"
@@ -71,6 +73,7 @@ SCHEMAS: dict[str, str] = {
     MOVE_TYPE: MOVE_SCHEMA,
     MOVE_STATUS_TYPE: MOVE_STATUS_SCHEMA,
     PLAN_TYPE: PLAN_SCHEMA,
+    QUICK_STOP_TYPE: QUICK_STOP_SCHEMA,
 }
 """ros2msg schema text by ROS 2 type name, for every type axisflow publishes."""
 

@@ -50,18 +50,24 @@ from ..model import (
     Motion,
     Move,
     SampledTrajectory,
+    StopProfile,
     cart_force,
     check_limits,
     move_ticks,
     polynomial_law,
+    stop_profile,
 )
 from .drive import Setpoint
 from .errors import MoveRejectedError
-from .messages import SAMPLED_LAW, MoveCommand
+from .messages import APPEND, SAMPLED_LAW, Knots, MoveCommand
+from .quick_stop import STOP_MOVE_ID
 
 DEFAULT_JUMP_TOLERANCE_M = 1e-4
 MAX_QUEUED_MOVES = 1024
 """moves a drive holds at once (running included); more are rejected until some have run"""
+QUICK_STOP_FORCE = 0.9
+"""the fraction of the force limit a quick stop brakes with (the rest is the drive's margin: the true
+friction and inertia differ from the nominal ones the profile is computed with)"""
 CHECK_POINTS = 1001
 """evenly spaced times at which a move's torque is checked besides the 1 kHz samples"""
 
@@ -134,6 +140,25 @@ class QueuedMove:
     """first tick after the move's last in-motion sample: the move's end point at rest"""
     sender: bytes = b""
     """publisher id of the move's sender (its attachment), b"" when unknown"""
+    stop: StopProfile | None = None
+    """set for the braking profile of a quick stop (not a move anyone sent)"""
+
+
+@dataclass(frozen=True)
+class StopOutcome:
+    """What a quick stop did to the queue at its tick."""
+
+    tick: int
+    interrupted: QueuedMove | None
+    """the running move, abandoned for the braking profile (None: nothing ran, or it ends sooner)"""
+    kept: QueuedMove | None
+    """the running move, kept because its own course reaches rest sooner than braking would"""
+    dropped: list[QueuedMove]
+    """the queued moves that had not started"""
+    braking: QueuedMove | None
+    """the braking profile now running"""
+    speed_m_s: float
+    """the setpoint speed when the stop was requested [m/s]"""
 
 
 @dataclass(frozen=True)
@@ -232,6 +257,38 @@ class MoveQueue:
                 return dropped[::-1]
         return []
 
+    def quick_stop(
+        self, tick: int, sender: bytes = b"", force_fraction: float = QUICK_STOP_FORCE
+    ) -> StopOutcome:
+        """Abandon the queue at ``tick`` (before its setpoint): drop the moves that have not started and
+        replace the running one by the fastest stop from its state at this tick (:func:`stop_profile`
+        with ``force_fraction`` of the force limit) — unless the running move itself reaches rest
+        sooner and no farther, which then runs to its end."""
+        running = None
+        if self._queue and self._head_started and self._queue[0].start_tick < tick:
+            running = self._queue.popleft()
+        dropped = list(self._queue)
+        self._queue.clear()
+        if running is None:
+            self._head_started = False
+            return StopOutcome(tick, None, None, dropped, None, 0.0)
+        s = running.move.sample((tick - running.start_tick) * EXECUTION_PERIOD_S)
+        x, v = float(s.position_m), float(s.velocity_m_s)
+        profile = stop_profile(x, v, self.params, force_fraction)
+        left_s = (running.end_tick - tick) * EXECUTION_PERIOD_S
+        if profile.time_s >= left_s or profile.distance_m > abs(running.move.x1_m - x):
+            self._queue.append(running)
+            return StopOutcome(tick, None, running, dropped, None, v)
+        traj = profile.trajectory
+        knots = Knots.of(traj)
+        cmd = MoveCommand(
+            0, self.axis, STOP_MOVE_ID, APPEND, SAMPLED_LAW, traj.x0_m, traj.x1_m, traj.duration_s, knots
+        )
+        braking = QueuedMove(cmd, traj, tick, tick + move_ticks(traj.duration_s), sender, profile)
+        self._queue.append(braking)
+        self._head_started = True  # it continues the running move's course at this very tick
+        return StopOutcome(tick, running, None, dropped, braking, v)
+
     def advance(self, tick: int) -> QueueStep:
         """The setpoint of ``tick`` (non-decreasing ticks): the active move's sample, or hold; with the
         moves that ended (their end tick reached) and the move that started at this tick."""
@@ -239,7 +296,8 @@ class MoveQueue:
         while self._queue and tick >= self._queue[0].end_tick:
             done = self._queue.popleft()
             self._hold_m = done.move.x1_m
-            self.completed += 1
+            if done.stop is None:
+                self.completed += 1
             finished.append(done)
         if finished:
             self._head_started = False

@@ -32,6 +32,7 @@ from .keys import AxisKeys
 from .messages import APPEND, MOVE_TYPE, SAMPLED_LAW, Knots, MoveCommand
 from .move_status import MoveState, MoveStatus
 from .publisher import SequencedPublisher, Traffic, wait_for_subscribers
+from .quick_stop import QUICK_STOP_TYPE, QuickStop
 
 TERMINAL_STATES = frozenset({MoveState.REJECTED, MoveState.DROPPED, MoveState.STOPPED, MoveState.COMPLETED})
 """the states after which a move has nothing more to say"""
@@ -54,6 +55,7 @@ class MoveSender:
         self._bridge_up = False
         self._token = session.liveliness().declare_token(keys.sender(self._pub.gid))
         self._next_id = 1
+        self._stop_pub: SequencedPublisher | None = None
         self.statuses: list[MoveStatus] = []
         """every status the bridge published about this sender's moves, in arrival order"""
 
@@ -177,7 +179,20 @@ class MoveSender:
         self._pub.put(cmd.encode(), cmd.stamp_ns)
         return cmd
 
+    def stop(self, reason: str = "") -> None:
+        """Request a quick stop (:mod:`.quick_stop`): the bridge abandons the queue, brakes the running
+        move to rest and holds. Its STOPPED status of move :data:`STOP_MOVE_ID` (this sender's) says
+        where and how fast the axis stopped: ``wait_status(STOP_MOVE_ID, {MoveState.STOPPED}, …)``."""
+        if self._stop_pub is None:
+            self._stop_pub = SequencedPublisher(
+                self._session, self.keys.stop, QUICK_STOP_TYPE, Traffic.COMMAND, gid=self._pub.gid
+            )
+        request = QuickStop(time.time_ns(), self.keys.axis, reason)
+        self._stop_pub.put(request.encode(), request.stamp_ns)
+
     def close(self) -> None:
+        if self._stop_pub is not None:
+            self._stop_pub.undeclare()
         self._token.undeclare()
         self._bridge_tokens.undeclare()
         self._status_sub.undeclare()

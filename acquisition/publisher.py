@@ -64,10 +64,14 @@ def mcap_encoding_of(encoding: zenoh.Encoding | str) -> tuple[str, str | None]:
 class SequencedPublisher:
     """Declares a publisher on ``key``; :meth:`put` adds the rmw_zenoh-style attachment."""
 
-    def __init__(self, session: zenoh.Session, key: str, type_name: str, traffic: Traffic) -> None:
+    def __init__(
+        self, session: zenoh.Session, key: str, type_name: str, traffic: Traffic, gid: bytes | None = None
+    ) -> None:
+        """``gid``: the publisher id of the attachments (default: a new random one; publishers of one
+        sender share theirs, so the bridge knows them as one)."""
         priority, congestion = _QOS[traffic]
         self.key = key
-        self.gid = os.urandom(16)
+        self.gid = os.urandom(16) if gid is None else gid
         self.sequence = 0
         self._pub = session.declare_publisher(
             key, encoding=encoding_for(type_name), priority=priority, congestion_control=congestion

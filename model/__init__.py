@@ -5,6 +5,7 @@ This is the bottom layer of axisflow: it depends on numpy/scipy only, and everyt
 (acquisition, identification, planner, viz, the command line) imports it, never the reverse.
 """
 
+from .braking import StopProfile, braking_acceleration, stop_profile
 from .dynamics import (
     cart_force,
     cart_force_from_torque,
@@ -63,6 +64,8 @@ __all__ = [
     "ParameterError",
     "PolynomialLaw",
     "SampledTrajectory",
+    "StopProfile",
+    "braking_acceleration",
     "cart_force",
     "cart_force_from_torque",
     "check_limits",
@@ -85,6 +88,7 @@ __all__ = [
     "params_to_toml",
     "polynomial_law",
     "sample_count",
+    "stop_profile",
     "ticks_to_seconds",
     "trace_energy",
 ]

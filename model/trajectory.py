@@ -36,6 +36,8 @@ class SampledTrajectory:
     position_m: np.ndarray
     velocity_m_s: np.ndarray
     acceleration_m_s2: np.ndarray
+    from_rest: bool = True
+    """whether the trajectory must start at rest (every move does; a quick stop starts in motion)"""
     _coefficients: np.ndarray = field(init=False, repr=False)
     """(n − 1, 6) quintic coefficients per piece, ascending powers of s"""
 
@@ -70,7 +72,7 @@ class SampledTrajectory:
                 f"trajectory duration {t[-1]} s exceeds the longest move, {MAX_MOVE_DURATION_S:g} s"
             )
         v = arrays["velocity_m_s"]
-        if v[0] != 0.0 or v[-1] != 0.0:
+        if (self.from_rest and v[0] != 0.0) or v[-1] != 0.0:
             raise MoveError(
                 f"a trajectory starts and ends at rest: velocity_m_s[0] = {v[0]} m/s, "
                 f"velocity_m_s[-1] = {v[-1]} m/s (both must be 0 m/s)"

@@ -1,0 +1,68 @@
+"""``axisflow stop``: a quick stop of an axis (abandon its queue, brake to rest, hold)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+from ..acquisition import MoveState
+from ..acquisition.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
+from ..acquisition.move_sender import MoveSender
+from ..acquisition.quick_stop import STOP_MOVE_ID
+from ..acquisition.zenoh_config import open_session
+from ..arguments import finite_float
+from ..model import AxisflowError
+from .zenoh_options import add_zenoh_options, zenoh_options_from_args
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "stop",
+        help="quick stop: the bridge abandons its queue and brakes the axis to rest",
+        description="Send a quick stop to an axis's bridge (CiA 402 quick-stop semantics): it drops the "
+        "moves that have not started and brings the running one to rest as fast as the torque limit "
+        "allows, then holds. Prints where the axis stopped, after what distance and time, and the axis's "
+        "physical minimum from the same speed.",
+    )
+    p.add_argument("--axis", default=DEFAULT_AXIS, help=f"axis name (default: {DEFAULT_AXIS})")
+    p.add_argument("--prefix", default=DEFAULT_PREFIX, help=f"key prefix (default: {DEFAULT_PREFIX})")
+    p.add_argument("--reason", default="axisflow stop", help="why (logged by the bridge)")
+    p.add_argument(
+        "--timeout",
+        type=finite_float,
+        default=10.0,
+        metavar="S",
+        help="wait for the bridge up to S s (default 10)",
+    )
+    p.add_argument("--json", action="store_true", help="print the bridge's answer as one JSON object")
+    add_zenoh_options(p)
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    keys = AxisKeys(args.axis, args.prefix)
+    with open_session(zenoh_options_from_args(args)) as session, MoveSender(session, keys) as sender:
+        if not sender.wait_for_bridge(args.timeout):
+            raise AxisflowError(
+                f"no bridge for axis {keys.axis!r} answered within {args.timeout:g} s ({keys.alive})"
+            )
+        sender.stop(args.reason)
+        status = sender.wait_status(STOP_MOVE_ID, {MoveState.STOPPED}, args.timeout)
+    if status is None:
+        raise AxisflowError(
+            f"the bridge of axis {keys.axis!r} did not confirm the stop within {args.timeout:g} s"
+        )
+    if args.json:
+        print(
+            json.dumps(
+                {
+                    "tick": status.tick,
+                    "start_tick": status.start_tick,
+                    "end_tick": status.end_tick,
+                    "text": status.text,
+                }
+            )
+        )
+    else:
+        print(status.text)
+    return 0

@@ -1,0 +1,95 @@
+"""Braking to rest as fast as the axis can: the quick-stop profile.
+
+From a speed v0 the cart stops fastest with the motor pulling back at its full force F_max while
+friction helps: in the frame where the cart moves forward (v ≥ 0),
+
+    M_eq·v̇ = −(f·F_max + φ(v)),   φ(v) = a1 + a2·v + a3·atan(a4·v)   (eq. (1), :mod:`.friction`)
+
+with f ≤ 1 the fraction of the force used (a drive keeps a margin: its true friction and inertia are
+not the nominal ones). Nothing brakes harder within the torque limit, so f = 1 gives the physical
+minimum stopping time and distance. The profile is integrated with classical Runge–Kutta at 1 ms
+steps (the drive's ticks; the last step is shortened to end exactly at rest) and returned as a
+:class:`~.trajectory.SampledTrajectory` whose knots carry position, velocity and acceleration, so a
+drive executes it like any move. The velocity limit only helps: the speed falls from v0 ≤ v_max.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import MoveError
+from .friction import forward_friction
+from .params import AxisParams
+from .sampling import EXECUTION_PERIOD_S
+from .trajectory import SampledTrajectory
+
+_MAX_STEPS = 1_000_000
+
+
+@dataclass(frozen=True)
+class StopProfile:
+    """A stop from ``speed_m_s`` at ``x0_m``: its trajectory, distance [m] and time [s]."""
+
+    trajectory: SampledTrajectory
+    distance_m: float
+    time_s: float
+
+
+def braking_acceleration(speed_m_s: float, params: AxisParams, force_fraction: float) -> float:
+    """v̇ [m/s²] of a cart moving forward at ``speed_m_s`` ≥ 0 braked with f·F_max (negative)."""
+    return -(force_fraction * params.f_max + float(forward_friction(speed_m_s, params))) / params.M_eq
+
+
+def stop_profile(x0_m: float, v0_m_s: float, params: AxisParams, force_fraction: float = 1.0) -> StopProfile:
+    """The fastest stop from position ``x0_m`` and velocity ``v0_m_s`` (either sign) with a fraction
+    ``force_fraction`` ∈ (0, 1] of the motor's force (see the module docstring)."""
+    if not 0.0 < force_fraction <= 1.0:
+        raise MoveError(f"braking force fraction = {force_fraction} must be in (0, 1]")
+    if not (math.isfinite(x0_m) and math.isfinite(v0_m_s)):
+        raise MoveError(f"stop from x = {x0_m} m, v = {v0_m_s} m/s: not finite")
+    direction = 1.0 if v0_m_s >= 0.0 else -1.0
+    v = abs(v0_m_s)
+    dt = EXECUTION_PERIOD_S
+    ts, xs, vs = [0.0], [0.0], [v]
+
+    def acc(speed: float) -> float:
+        return braking_acceleration(speed, params, force_fraction)
+
+    def rk4(v: float, h: float) -> tuple[float, float]:
+        """(Δv, Δx) of one classical Runge–Kutta step of length h from speed v."""
+        k1 = acc(v)
+        k2 = acc(max(v + 0.5 * h * k1, 0.0))
+        k3 = acc(max(v + 0.5 * h * k2, 0.0))
+        k4 = acc(max(v + h * k3, 0.0))
+        dv = h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+        dx = h / 6.0 * (v + 2 * (v + 0.5 * h * k1) + 2 * (v + 0.5 * h * k2) + (v + h * k3))
+        return dv, dx
+
+    while vs[-1] > 0.0:
+        if len(ts) > _MAX_STEPS:  # pragma: no cover - a stop from v_max takes well under a second
+            raise MoveError(f"a stop from {v0_m_s} m/s does not end within {_MAX_STEPS} ms")
+        v, x = vs[-1], xs[-1]
+        dv, dx = rk4(v, dt)
+        h = dt
+        if v + dv <= 0.0:  # the last, shorter step: the one that ends exactly at rest (bisection)
+            lo, hi = 0.0, dt
+            for _ in range(60):
+                h = 0.5 * (lo + hi)
+                dv, dx = rk4(v, h)
+                lo, hi = (h, hi) if v + dv > 0.0 else (lo, h)
+            h = hi
+            dv, dx = -v, rk4(v, h)[1]
+        vs.append(max(v + dv, 0.0))
+        xs.append(x + dx)
+        ts.append(ts[-1] + h)
+    t = np.array(ts)
+    x = x0_m + direction * np.array(xs)
+    vel = direction * np.array(vs)
+    a = np.array([direction * acc(s) for s in vs])
+    if len(t) == 1:  # at rest already: a single tick of rest
+        t, x, vel, a = np.array([0.0, dt]), np.array([x0_m, x0_m]), np.zeros(2), np.zeros(2)
+    a[-1] = 0.0  # at rest the drive holds: no braking force left
+    return StopProfile(SampledTrajectory(t, x, vel, a, from_rest=False), float(xs[-1]), float(t[-1]))
