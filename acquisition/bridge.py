@@ -103,6 +103,8 @@ class BridgeReport:
     quick_stops: int = 0
     period_jitter: DurationStats | None = None
     """|tick-start period − 1 ms/speed| [µs]; None at speed 0"""
+    late_ticks: int = 0
+    """ticks that started more than a whole period after their deadline (at speed > 0)"""
     rejections: list[str] = field(default_factory=list)
 
     def summary(self) -> str:
@@ -116,7 +118,7 @@ class BridgeReport:
             j = self.period_jitter
             lines.append(
                 f"  period jitter: p50 {j.p50_us:.0f} µs, p99 {j.p99_us:.0f} µs, max {j.max_us:.0f} µs "
-                f"over {j.count} periods"
+                f"over {j.count} periods; {self.late_ticks} ticks late by more than a period"
             )
         return "\n".join(lines)
 
@@ -131,6 +133,7 @@ class BridgeReport:
             "moves_missed": self.moves_missed,
             "quick_stops": self.quick_stops,
             "period_jitter": self.period_jitter.to_dict() if self.period_jitter else None,
+            "late_ticks": self.late_ticks,
             "rejections": self.rejections,
         }
 
@@ -387,6 +390,8 @@ class Bridge:
                     pass
                 if self.tick > first_tick:
                     jitter.add_ns(abs(now - prev - int(nominal_ns)))
+                if now - deadline > nominal_ns:
+                    self.report.late_ticks += 1
                 prev = now
             self.step()
         self.report.ticks = self.tick

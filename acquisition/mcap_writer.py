@@ -9,8 +9,10 @@ file holds everything up to the last flush (read it with a streaming reader or
 
 from __future__ import annotations
 
+import fcntl
 import logging
 import os
+import stat
 import tempfile
 from importlib.metadata import version as package_version
 from pathlib import Path
@@ -59,10 +61,7 @@ class Ros2McapWriter:
         if compression not in COMPRESSIONS:
             raise RecordingError(f"compression {compression!r} is not one of {', '.join(COMPRESSIONS)}")
         self.path = Path(path)
-        try:
-            self._fh: BinaryIO = open(self.path, "wb")  # noqa: SIM115 - closed in finish()
-        except OSError as exc:
-            raise RecordingError(f"cannot write {self.path}: {exc.strerror}") from None
+        self._fh: BinaryIO = _open_exclusive(self.path)
         # message and chunk indexes are written (rerun's importer needs the message indexes)
         self._writer = Writer(self._fh, chunk_size=chunk_size, compression=COMPRESSIONS[compression])
         self._spill = _ChunkIndexSpill(self._writer, self.path.parent)
@@ -127,6 +126,24 @@ class Ros2McapWriter:
         self._fh.flush()
         os.fsync(self._fh.fileno())
         self._fh.close()
+
+
+def _open_exclusive(path: Path) -> BinaryIO:
+    """``path`` opened for writing from its start, holding an exclusive advisory lock (``flock``) for as
+    long as it is open: a second recorder on the same file (even with --overwrite) is refused before it
+    truncates a recording in progress."""
+    try:
+        fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
+    except OSError as exc:
+        raise RecordingError(f"cannot write {path}: {exc.strerror}") from None
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        os.close(fd)
+        raise RecordingError(f"{path} is being recorded by another process: choose another name") from None
+    if stat.S_ISREG(os.fstat(fd).st_mode):  # (a device, e.g. /dev/full in a test, has no length)
+        os.ftruncate(fd, 0)
+    return os.fdopen(fd, "wb")
 
 
 class _SerializedRecords:

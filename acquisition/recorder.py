@@ -105,6 +105,9 @@ class TopicStats:
     missed: int = 0
     first_log_ns: int = 0
     last_log_ns: int = 0
+    publishers: dict[bytes, list[int]] = field(default_factory=dict)
+    """publisher id → [first sequence, last sequence, messages] (a sender that restarts is a new
+    publisher: its sequence starts again at 1)"""
 
     @property
     def duration_s(self) -> float:
@@ -145,6 +148,13 @@ class RecordSummary:
         for t in sorted(self.topics.values(), key=lambda t: t.topic):
             rate = "–" if t.rate_hz is None else f"{t.rate_hz:.1f}"
             lines.append(f"  {t.topic:<40} {t.messages:>9} {t.duration_s:>10.3f} {rate:>9} {t.missed:>7}")
+        for t in sorted(self.topics.values(), key=lambda t: t.topic):
+            if len(t.publishers) > 1:
+                spans = ", then ".join(f"seq {a}–{b}" for a, b, _n in t.publishers.values())
+                lines.append(
+                    f"  {t.topic}: {len(t.publishers)} publishers one after the other ({spans}): its sender "
+                    "restarted; the stamps show the gap"
+                )
         if not self.topics:
             lines.append(
                 f"  no message matched {self.keys}: is a publisher running, and reachable with the "
@@ -175,6 +185,10 @@ class RecordSummary:
                     "missed": t.missed,
                     "duration_s": t.duration_s,
                     "rate_hz": t.rate_hz,
+                    "publishers": [
+                        {"id": gid.hex(), "first_sequence": a, "last_sequence": b, "messages": n}
+                        for gid, (a, b, n) in t.publishers.items()
+                    ],
                 }
                 for t in self.topics.values()
             },
@@ -245,6 +259,12 @@ class Recorder:
             if last is not None and seq > last + 1:
                 stats.missed += seq - last - 1
             self._last_seq[(topic, gid)] = seq
+            span = stats.publishers.get(gid)
+            if span is None:
+                stats.publishers[gid] = [seq, seq, 1]
+            else:
+                span[1] = seq
+                span[2] += 1
             if abs(now - stamp) <= LIVE_STAMP_WINDOW_NS:
                 self._latency.add_ns(now - stamp)
             else:

@@ -19,18 +19,27 @@ complete ``[axis]`` table (absolute values, the keys of a parameter file). Per 1
    with ``substeps`` semi-implicit Euler steps. Friction is Karnopp-style at rest: the cart sticks
    while |F| ≤ a1 and the velocity is clamped to 0 when it would change sign within a step.
    The stroke ends at 0 and L are hard stops (position clamped, velocity zeroed).
+
+A real axis stays where it is when its drive's software stops. With a ``state_path`` the simulated
+plant does too: it keeps its position and velocity in that file (16 bytes, memory-mapped, written
+every tick, so they survive a SIGKILL of the bridge), and a new plant on the same file starts where the
+old one would have coasted to rest on friction alone (:func:`axisflow.model.stop_profile` with no
+motor force), inside the stroke.
 """
 
 from __future__ import annotations
 
 import math
+import mmap
+import os
 import random
+import struct
 import time
 from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
-from ..model import EXECUTION_PERIOD_NS, EXECUTION_PERIOD_S, AxisflowError, AxisParams
+from ..model import EXECUTION_PERIOD_NS, EXECUTION_PERIOD_S, AxisflowError, AxisParams, stop_profile
 from ..model.params import params_from_mapping
 from ..model.toml_file import read_toml
 from .drive import Setpoint
@@ -181,10 +190,16 @@ class SimulatedAxis:
     """A :class:`~axisflow.acquisition.drive.Drive` backed by the integrated plant (see module doc)."""
 
     def __init__(
-        self, plant: PlantConfig, nominal: AxisParams, start_stamp_ns: int | None = None, axis: str = "a0"
+        self,
+        plant: PlantConfig,
+        nominal: AxisParams,
+        start_stamp_ns: int | None = None,
+        axis: str = "a0",
+        state_path: str | Path | None = None,
     ) -> None:
         """``start_stamp_ns``: the stamp of tick 0 [ns since the Unix epoch]; None: the next whole
-        millisecond of the wall clock when the first sample is read (the drive's clock starts then)."""
+        millisecond of the wall clock when the first sample is read (the drive's clock starts then).
+        ``state_path``: where the plant keeps its state between runs (see the module docstring)."""
         self.axis = axis
         self.plant = plant
         self.nominal = nominal
@@ -203,6 +218,13 @@ class SimulatedAxis:
         # true state
         self.position_m = plant.simulation.initial_position_m
         self.velocity_m_s = 0.0
+        self._state: _PlantState | None = None
+        if state_path is not None:
+            self._state = _PlantState(Path(state_path))
+            saved = self._state.load()
+            if saved is not None:
+                self.position_m = _at_rest_after_coasting(*saved, plant.axis)
+            self._state.save(self.position_m, 0.0)
         self.applied_torque_nm = 0.0
         # drive's measurement state
         self._x_meas = self._encoder(self.position_m)
@@ -243,6 +265,8 @@ class SimulatedAxis:
         self.applied_torque_nm = tau
         self._integrate(tau)
         self.tick += 1
+        if self._state is not None:
+            self._state.save(self.position_m, self.velocity_m_s)
         x_new = self._encoder(self.position_m)
         v_raw = (x_new - self._x_meas) / (EXECUTION_PERIOD_S)
         self._v_meas += self._alpha_v * (v_raw - self._v_meas)
@@ -270,4 +294,51 @@ class SimulatedAxis:
         self.position_m, self.velocity_m_s = x, v
 
     def close(self) -> None:
-        """Nothing to release for the simulation."""
+        """Release the state file (its last state stays in it)."""
+        if self._state is not None:
+            self._state.close()
+            self._state = None
+
+
+_STATE = struct.Struct("<dd")
+
+
+class _PlantState:
+    """The plant's (position, velocity) in a memory-mapped file: a write per tick costs a memory copy,
+    and the kernel keeps the page when the process is killed."""
+
+    def __init__(self, path: Path) -> None:
+        try:
+            fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+        except OSError as exc:
+            raise PlantError(f"plant state file {path} cannot be opened: {exc.strerror}") from None
+        self.path = path
+        with os.fdopen(fd, "r+b") as fh:
+            if os.fstat(fh.fileno()).st_size != _STATE.size:
+                self._fresh = os.fstat(fh.fileno()).st_size == 0
+                fh.truncate(_STATE.size)
+            else:
+                self._fresh = False
+            self._map = mmap.mmap(fh.fileno(), _STATE.size)
+
+    def load(self) -> tuple[float, float] | None:
+        """The saved (x, v), or None for a new file (or one that is not a plant state)."""
+        if self._fresh:
+            return None
+        x, v = _STATE.unpack_from(self._map, 0)
+        if not (math.isfinite(x) and math.isfinite(v)):
+            raise PlantError(f"plant state file {self.path} holds no valid state (x = {x}, v = {v})")
+        return x, v
+
+    def save(self, x_m: float, v_m_s: float) -> None:
+        _STATE.pack_into(self._map, 0, x_m, v_m_s)
+
+    def close(self) -> None:
+        self._map.flush()
+        self._map.close()
+
+
+def _at_rest_after_coasting(x_m: float, v_m_s: float, axis: AxisParams) -> float:
+    """Where a cart at ``x_m`` moving at ``v_m_s`` comes to rest on friction alone, inside [0, L]."""
+    end = stop_profile(x_m, v_m_s, axis, force_fraction=0.0).trajectory.x1_m if v_m_s else x_m
+    return min(max(end, 0.0), axis.L)

@@ -45,9 +45,10 @@ def braking_acceleration(speed_m_s: float, params: AxisParams, force_fraction: f
 
 def stop_profile(x0_m: float, v0_m_s: float, params: AxisParams, force_fraction: float = 1.0) -> StopProfile:
     """The fastest stop from position ``x0_m`` and velocity ``v0_m_s`` (either sign) with a fraction
-    ``force_fraction`` ∈ (0, 1] of the motor's force (see the module docstring)."""
-    if not 0.0 < force_fraction <= 1.0:
-        raise MoveError(f"braking force fraction = {force_fraction} must be in (0, 1]")
+    ``force_fraction`` ∈ [0, 1] of the motor's force (see the module docstring); 0 is a coast to rest
+    on friction alone (a drive whose power stage is off)."""
+    if not 0.0 <= force_fraction <= 1.0:
+        raise MoveError(f"braking force fraction = {force_fraction} must be in [0, 1]")
     if not (math.isfinite(x0_m) and math.isfinite(v0_m_s)):
         raise MoveError(f"stop from x = {x0_m} m, v = {v0_m_s} m/s: not finite")
     direction = 1.0 if v0_m_s >= 0.0 else -1.0

@@ -29,6 +29,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_params_option(p)
     p.add_argument("--plant", metavar="FILE", default=None, help="plant file (default: the packaged one)")
     p.add_argument(
+        "--plant-state",
+        metavar="FILE",
+        default=None,
+        help="keep the simulated axis's position here between runs: a bridge restarted on the same file "
+        "starts where the axis came to rest (default: start at the plant's initial position)",
+    )
+    p.add_argument(
         "--speed",
         type=finite_float,
         default=1.0,
@@ -66,7 +73,8 @@ def run(args: argparse.Namespace) -> int:
         jump_tolerance_m=args.jump_tolerance,
     )
     options = zenoh_options_from_args(args)
-    drive = SimulatedAxis(plant, params, axis=args.axis)  # its clock starts at the first sample
+    # its clock starts at the first sample
+    drive = SimulatedAxis(plant, params, axis=args.axis, state_path=args.plant_state)
     with stop_on_signals() as stop, open_session(options) as session:
         try:
             report = run_bridge(session, drive, params, config, stop)

@@ -33,3 +33,19 @@ def test_spilled_chunk_indexes_make_a_complete_summary(tmp_path, compression):
     with AnyReader([path]) as bag:
         assert {c.msgcount for c in bag.connections} == {n}
     assert not list(tmp_path.glob(".axisflow-chunk-index-*"))  # the spill file is gone
+
+
+def test_a_second_writer_on_a_file_being_recorded_is_refused_before_it_truncates(tmp_path):
+    from axisflow.acquisition import RecordingError
+
+    path = tmp_path / "busy.mcap"
+    first = Ros2McapWriter(path)
+    channel = first.channel_for("/axisflow/a0/state", "sensor_msgs/msg/JointState")
+    first.add(channel, 1, 1, 1, AxisSample(1, "a", 0.1, 0.0, 0.0, 0.0, 0.0, 0.0).encode())
+    first.flush()
+    size = path.stat().st_size
+    with pytest.raises(RecordingError, match="is being recorded by another process"):
+        Ros2McapWriter(path)
+    assert path.stat().st_size == size  # not truncated
+    first.finish()
+    assert is_complete(path)

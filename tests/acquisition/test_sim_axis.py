@@ -146,3 +146,23 @@ def test_the_plants_scalar_friction_is_the_models_law():
     assert [moving_friction(float(x), p) for x in v] == pytest.approx(
         friction_force(v, p).tolist(), rel=1e-15
     )
+
+
+def test_a_plant_restarted_on_its_state_file_starts_where_the_axis_came_to_rest(tmp_path):
+    from axisflow.model import stop_profile
+
+    p = default_params()
+    plant = load_plant(None, p)
+    state = tmp_path / "plant.state"
+    first = SimulatedAxis(plant, p, 0, state_path=state)
+    first.position_m, first.velocity_m_s = 0.2, 0.0
+    for _ in range(300):  # pushed at 2 N·m: moving when "killed" (no close)
+        first.apply(Setpoint(0.8, 1.0, 0.0, 2.0 * p.i_r / p.r))
+    x, v = first.position_m, first.velocity_m_s
+    assert v > 0.1
+    second = SimulatedAxis(plant, p, 0, state_path=state)
+    coast = stop_profile(x, v, plant.axis, force_fraction=0.0)
+    assert second.position_m == pytest.approx(coast.trajectory.x1_m) and second.velocity_m_s == 0.0
+    assert x < second.position_m < p.L
+    assert SimulatedAxis(plant, p, 0).position_m == plant.simulation.initial_position_m  # no file: as before
+    second.close()
