@@ -1,0 +1,96 @@
+"""The loop as a new user runs it, with real processes: bridge + recorder + `axisflow excite`, then
+`axisflow identify` validated on a recording of planned moves; and `axisflow demo`."""
+
+import json
+import math
+import os
+import signal
+import subprocess
+import time
+from pathlib import Path
+
+import pytest
+from axisflow.acquisition import load_plant
+from axisflow.model import default_params
+
+
+def _record(cli, path: Path, endpoint: str):
+    rec = cli.start("record", "-o", str(path), "--connect", endpoint)
+    cli.wait_for_file(path)
+    time.sleep(1.0)  # its subscription reaches the bridge
+    return rec
+
+
+def _stop(cli, proc) -> str:
+    proc.send_signal(signal.SIGINT)
+    out, err = cli.finish(proc, timeout=60)
+    assert proc.returncode == 0, err
+    return out
+
+
+@pytest.mark.slow
+def test_excite_record_identify_recovers_the_plant_and_validates_on_planned_moves(cli, tmp_path, port):
+    endpoint = f"tcp/127.0.0.1:{port}"
+    bridge = cli.start("bridge", "--sim", "--speed", "0", "--listen", endpoint)
+    rec = _record(cli, tmp_path / "excite.mcap", endpoint)
+    excite = cli.run("excite", "--connect", endpoint, "--json", timeout=300)
+    assert excite.returncode == 0, excite.stderr
+    _stop(cli, rec)
+    rec = _record(cli, tmp_path / "valid.mcap", endpoint)
+    args = ("--random", "15", "--seed", "3", "--case", "all", "--lookahead-s", "3", "--connect", endpoint)
+    planner = cli.run("planner", *args, timeout=300)
+    assert planner.returncode == 0, planner.stderr
+    _stop(cli, rec)
+    _stop(cli, bridge)
+    out = tmp_path / "refit"
+    ident = cli.run("identify", str(tmp_path / "excite.mcap"), "--validate", str(tmp_path / "valid.mcap"),
+                    "--out", str(out), "--json", timeout=300)  # fmt: skip
+    assert ident.returncode == 0, ident.stderr
+    report = json.loads(ident.stdout)
+    truth = load_plant(None, default_params()).axis
+    got = {name: p["value"] for name, p in report["parameters"].items()}
+    std = {name: p["std"] for name, p in report["parameters"].items()}
+    assert got["M_eq"] == pytest.approx(truth.M_eq, rel=0.02)
+    combined = got["a1"] + math.pi / 2 * got["a3"]
+    assert combined == pytest.approx(truth.a1 + math.pi / 2 * truth.a3, rel=0.02)
+    assert got["a2"] == pytest.approx(truth.a2, rel=0.05)
+    for name, true in (
+        ("M_eq", truth.M_eq),
+        ("a1", truth.a1),
+        ("a2", truth.a2),
+        ("a3", truth.a3),
+        ("a4", truth.a4),
+    ):
+        assert abs(got[name] - true) <= 3 * std[name], (name, got[name], true, std[name])
+    # the paper's 0.5 N·m maximum, beaten at least 2x on the separate recording; RMS at the noise floor
+    assert report["validation"]["max_abs_nm"] < 0.25
+    assert report["validation"]["rms_nm"] < 0.01  # the simulated torque sensor's noise, 0.01 N·m
+    assert report["validation_nominal"]["rms_nm"] > 5 * report["validation"]["rms_nm"]
+    assert {p.name for p in out.iterdir()} == {"params.toml", "report.json", "report.md", "fit.png"}
+
+
+@pytest.mark.slow
+def test_the_demo_closes_the_loop(cli, tmp_path):
+    out = tmp_path / "session"
+    demo = cli.run("demo", "--waypoints", "5", "--out", str(out), timeout=600)
+    assert demo.returncode == 0, demo.stderr[-3000:]
+    assert "Table 2, nominal parameters" in demo.stdout and "Table 2, refit parameters" in demo.stdout
+    summary = json.loads((out / "demo.json").read_text())
+    assert summary["idle_ticks"] == {"nominal": 0, "refit": 0}
+    for row, error in summary["energy_error_pct"]["refit"].items():
+        assert abs(error) < 1.0, row  # the refit brings E_th and E_exp together ...
+        assert abs(summary["energy_error_pct"]["nominal"][row]) > 3 * abs(error)  # ... the nominal does not
+    for name in ("excitation.mcap", "experiment-nominal.mcap", "experiment-refit.mcap", "table2-refit.json",
+                 "table2-nominal.md", "refit/params.toml", "refit/fit.png"):  # fmt: skip
+        assert (out / name).is_file(), name
+    # the recordings open in rosbags and in rerun's MCAP importer
+    from rosbags.highlevel import AnyReader
+
+    with AnyReader([out / "experiment-refit.mcap"]) as bag:
+        topics = {c.topic for c in bag.connections}
+    assert {"/axisflow/a0/state", "/axisflow/a0/plan", "/axisflow/a0/event"} <= topics
+    rrd = tmp_path / "refit.rrd"
+    command = ["rerun", "mcap", "convert", str(out / "experiment-refit.mcap"), "-o", str(rrd)]
+    conv = subprocess.run(command, capture_output=True, text=True, timeout=120, env={**os.environ, "CI": "1"})
+    assert conv.returncode == 0, conv.stderr
+    assert rrd.stat().st_size > 0
