@@ -50,9 +50,10 @@ from .waypoints import random_waypoints
 
 DEFAULT_WAYPOINTS = 50
 DEFAULT_LOOKAHEAD = 1
-DEFAULT_LOOKAHEAD_S = 3.0
-"""drive time kept queued behind the running move [s]: at --speed 0 the bridge runs ~10× real time on
-two cores shared by three processes, and the planner may lose the CPU for a few hundred ms"""
+DEFAULT_LOOKAHEAD_S = 10.0
+"""drive time kept queued behind the running move [s]: at --speed 0 the bridge runs ~11× real time on
+two cores shared by three processes, and a planner that loses the CPU for 150 ms (seen on a loaded
+machine) finds the queue 1.6 s of drive time shorter"""
 _RECORDER_SETTLE_S = 1.0
 _STOP_TIMEOUT_S = 30.0
 
