@@ -141,41 +141,32 @@ class MoveSender:
         move_id: int | None = None,
     ) -> MoveCommand:
         """Publish one move; ``start_ns`` None appends it after the moves already queued."""
-        if move_id is None:
-            move_id = self._next_id
-        self._next_id = move_id + 1
-        cmd = MoveCommand(
-            stamp_ns=time.time_ns(),
-            axis=self.keys.axis,
-            move_id=move_id,
-            start_ns=APPEND if start_ns is None else start_ns,
-            law=law,
-            start_position_m=float(start_position_m),
-            end_position_m=float(end_position_m),
-            duration_s=float(duration_s),
-        )
-        self._pub.put(cmd.encode(), cmd.stamp_ns)
-        return cmd
+        x0, x1, duration = float(start_position_m), float(end_position_m), float(duration_s)
+        return self._publish(law, x0, x1, duration, None, start_ns, move_id)
 
     def send_trajectory(
         self, trajectory: SampledTrajectory, start_ns: int | None = None, move_id: int | None = None
     ) -> MoveCommand:
         """Publish a sampled move (law ``sampled``: the trajectory's knots); ``start_ns`` None appends
         it. The bridge validates it at every 1 kHz sample and knot, like any move."""
+        t = trajectory
+        return self._publish(SAMPLED_LAW, t.x0_m, t.x1_m, t.duration_s, Knots.of(t), start_ns, move_id)
+
+    def _publish(
+        self,
+        law: str,
+        x0_m: float,
+        x1_m: float,
+        duration_s: float,
+        knots: Knots | None,
+        start_ns: int | None,
+        move_id: int | None,
+    ) -> MoveCommand:
         if move_id is None:
             move_id = self._next_id
         self._next_id = move_id + 1
-        cmd = MoveCommand(
-            stamp_ns=time.time_ns(),
-            axis=self.keys.axis,
-            move_id=move_id,
-            start_ns=APPEND if start_ns is None else start_ns,
-            law=SAMPLED_LAW,
-            start_position_m=trajectory.x0_m,
-            end_position_m=trajectory.x1_m,
-            duration_s=trajectory.duration_s,
-            knots=Knots.of(trajectory),
-        )
+        start = APPEND if start_ns is None else start_ns
+        cmd = MoveCommand(time.time_ns(), self.keys.axis, move_id, start, law, x0_m, x1_m, duration_s, knots)
         self._pub.put(cmd.encode(), cmd.stamp_ns)
         return cmd
 
