@@ -1,1 +1,46 @@
-"""rerun views of the axis signals, live and from logs."""
+"""rerun views of the axis signals, live and from logs, and the paper's figures as pictures.
+
+Public API (each name is loaded with its module on first use, so importing the package stays light
+and never loads zenoh; only the live view uses the network):
+
+* :func:`write_session_rrd` — MCAP logs → one .rrd with the layout (``viz/session.py``);
+* :func:`write_figures` / :func:`render_figures` — the paper's figures as PNG files / bytes
+  (``viz/figures.py``);
+* :class:`LiveView` — Zenoh keys → rerun, batch by batch (``viz/live_view.py``);
+* :class:`RerunOutput`, :class:`ViewOutput` — where a view goes: .rrd, viewer, web viewer;
+* :func:`view_blueprint` — the layout; :class:`AxisEntities` — the entity paths;
+* :class:`VizError` — the exception root.
+
+docs/viz.md describes the views, the commands and their measured figures.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+_NAMES: dict[str, str] = {
+    "write_session_rrd": "session",
+    "SessionLogs": "session",
+    "log_session": "session",
+    "write_figures": "figures",
+    "render_figures": "figures",
+    "save_figures": "figures",
+    "LiveView": "live_view",
+    "RerunOutput": "outputs",
+    "ViewOutput": "outputs",
+    "view_blueprint": "blueprint",
+    "AxisEntities": "entities",
+    "VizError": "errors",
+}
+
+
+def __getattr__(name: str) -> Any:
+    """Load a public name with its module on first use."""
+    module = _NAMES.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(importlib.import_module(f".{module}", __name__), name)
+
+
+__all__ = sorted(_NAMES)

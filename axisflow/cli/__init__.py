@@ -36,6 +36,8 @@ COMMAND_MODULES: tuple[str, ...] = (
     "recover_cmd",
     "security_cmd",
     "router_cmd",
+    "view_cmd",
+    "figures_cmd",
 )
 
 EXIT_USER_ERROR = 2

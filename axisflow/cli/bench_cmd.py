@@ -11,7 +11,12 @@ import argparse
 import importlib
 
 # benchmark modules under axisflow.benchmarks, by the name used on the command line
-BENCHMARKS: dict[str, str] = {"pipeline": "pipeline", "planner": "planner", "identify": "identify"}
+BENCHMARKS: dict[str, str] = {
+    "pipeline": "pipeline",
+    "planner": "planner",
+    "identify": "identify",
+    "view": "view",
+}
 
 
 def register(sub: argparse._SubParsersAction) -> None:

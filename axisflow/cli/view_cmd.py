@@ -1,0 +1,139 @@
+"""``axisflow view``: rerun views of the axes, from MCAP logs or live from Zenoh."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from ..acquisition.keys import all_keys
+from ..acquisition.shutdown import stop_on_signals
+from ..arguments import add_params_option, finite_float, non_negative_int, params_from_args
+from ..model import AxisParams
+from .zenoh_options import add_zenoh_options, zenoh_options_from_args
+
+if TYPE_CHECKING:
+    from ..viz.outputs import RerunOutput
+
+# the views (and rerun) are imported when the command runs: other commands start without them
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "view",
+        help="rerun view of the axes (position, velocity, torque, tracking error, power, energy per move, "
+        "move statuses), from MCAP logs or live",
+        description="Show the axes of MCAP logs (every /<prefix>/<axis>/state, setpoint, event and plan "
+        "topic) or, with --live, of the Zenoh keys as they arrive, in rerun, laid out like the paper's "
+        "Fig. 5: position with the stroke and the way points, velocity with ±v_max, motor torque against "
+        "the feed-forward with ±tau_max, tracking error, mechanical power and energy per move, and the "
+        "bridge's move statuses; one column per axis. -o saves a .rrd (atomically; no viewer needed), "
+        "--spawn opens the rerun viewer, --serve serves a web viewer on 127.0.0.1. Without any of them a "
+        "log view is saved beside the first log as LOG.rrd.",
+    )
+    p.add_argument("logs", nargs="*", metavar="LOG.mcap", help="recordings to view (not with --live)")
+    p.add_argument("--live", action="store_true", help="view the Zenoh keys live instead of logs")
+    p.add_argument(
+        "--keys", default=None, metavar="EXPR", help=f"with --live: key expression (default {all_keys()})"
+    )
+    p.add_argument(
+        "--duration", type=finite_float, default=None, metavar="S", help="with --live: stop after S seconds"
+    )
+    p.add_argument("-o", "--output", default=None, metavar="FILE.rrd", help="save the view to FILE.rrd")
+    viewer = p.add_mutually_exclusive_group()
+    viewer.add_argument("--spawn", action="store_true", help="open the rerun viewer (stays open)")
+    viewer.add_argument(
+        "--serve",
+        action="store_true",
+        help="serve a web viewer on 127.0.0.1 until Ctrl-C (or the end of --duration)",
+    )
+    p.add_argument(
+        "--web-port",
+        type=non_negative_int,
+        default=0,
+        metavar="N",
+        help="with --serve: the web viewer's port (default: a free one)",
+    )
+    p.add_argument("--json", action="store_true", help="print the summary as one JSON object")
+    add_params_option(p)
+    add_zenoh_options(p)
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..viz.errors import VizError
+    from ..viz.outputs import RerunOutput, ViewOutput
+    from ..viz.session import SessionLogs, log_session
+
+    params = params_from_args(args)
+    if args.live:
+        return _run_live(args, params)
+    if args.keys is not None or args.duration is not None:
+        raise VizError("--keys and --duration apply to --live only")
+    if not args.logs:
+        raise VizError("nothing to view: give LOG.mcap files, or --live")
+    rrd = args.output
+    if rrd is None and not (args.spawn or args.serve):
+        rrd = Path(args.logs[0]).with_suffix(".rrd")
+    output = ViewOutput(
+        rrd=Path(rrd) if rrd else None, spawn=args.spawn, serve=args.serve, web_port=args.web_port
+    )
+    session = SessionLogs.open(args.logs)
+    with RerunOutput(output, session.blueprint()) as out:
+        summary = log_session(out.rec, session, params)  # Ctrl-C here: nothing is written
+        data = {
+            "logs": [str(p) for p in summary.logs],
+            "axes": [vars(a) for a in summary.axes.values()],
+            "rrd": str(output.rrd) if output.rrd else None,
+        }
+        _print(args, data, summary.format())
+        _hold(out)
+    if output.rrd is not None and not args.json:
+        print(f"wrote {output.rrd} (open it with: rerun {output.rrd})", flush=True)
+    return 0
+
+
+def _run_live(args: argparse.Namespace, params: AxisParams) -> int:
+    from ..acquisition.zenoh_config import open_session
+    from ..viz.errors import VizError
+    from ..viz.live_view import LiveView, check_keys
+    from ..viz.outputs import RerunOutput, ViewOutput
+
+    if args.logs:
+        raise VizError("--live views the network: give no LOG.mcap with it")
+    keys = check_keys(args.keys or all_keys())
+    if args.duration is not None and not args.duration > 0:
+        raise VizError(f"--duration {args.duration} s must be > 0 s")
+    output = ViewOutput(
+        rrd=Path(args.output) if args.output else None,
+        spawn=args.spawn,
+        serve=args.serve,
+        web_port=args.web_port,
+    )
+    with (
+        stop_on_signals() as stop,
+        open_session(zenoh_options_from_args(args)) as session,
+        RerunOutput(output) as out,
+    ):
+        view = LiveView(out, params, keys)
+        if out.web_url:
+            print(f"serving the view at {out.web_url}", flush=True)
+        report = view.run(session, stop, args.duration)
+    _print(args, {**report.to_dict(), "rrd": str(output.rrd) if output.rrd else None}, report.format())
+    if output.rrd is not None and not args.json:
+        print(f"wrote {output.rrd}", flush=True)
+    return 0
+
+
+def _hold(out: RerunOutput) -> None:
+    """With a web viewer: keep serving until Ctrl-C (SIGINT/SIGTERM)."""
+    if out.web_url:
+        print(f"serving the view at {out.web_url} (Ctrl-C to stop)", flush=True)
+        with stop_on_signals() as stop:
+            while not stop.wait(0.2):
+                pass
+
+
+def _print(args: argparse.Namespace, data: dict, text: str) -> None:
+    print(json.dumps(data, indent=1) if args.json else text, flush=True)

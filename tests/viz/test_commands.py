@@ -1,0 +1,120 @@
+"""`axisflow view` and `axisflow figures` as a user runs them: outputs, and bad input as one line, exit
+code 2 and nothing half-written."""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import signal
+import time
+
+import pytest
+from axisflow.acquisition.mcap_writer import Ros2McapWriter
+
+from axisflow.cli import main
+
+
+@pytest.fixture
+def no_axis_log(tmp_path):
+    path = tmp_path / "other.mcap"
+    writer = Ros2McapWriter(path)
+    channel = writer.channel_for("/camera/info", None, "json")
+    writer.add(channel, 1, 1, 1, b"{}")
+    writer.finish()
+    return path
+
+
+def test_a_log_view_is_saved_beside_the_log_by_default(cli, test_log, tmp_path, rrd_reader):
+    log = tmp_path / "s.mcap"
+    shutil.copy(test_log.path, log)
+    done = cli.run("view", str(log))
+    assert done.returncode == 0, done.stderr
+    assert f"wrote {tmp_path / 's.rrd'}" in done.stdout
+    assert len(rrd_reader(tmp_path / "s.rrd")["/axes/a0/position/measured"].stamp_ns) == test_log.ticks
+
+
+def _listening_on(port: int) -> list[str]:
+    """The local addresses (hex, as in /proc/net/tcp) of the sockets listening on ``port``."""
+    found = []
+    for table in ("/proc/net/tcp", "/proc/net/tcp6"):
+        with open(table) as fh:
+            for line in fh.readlines()[1:]:
+                local, state = line.split()[1], line.split()[3]
+                if state == "0A" and int(local.rsplit(":", 1)[1], 16) == port:
+                    found.append(local.rsplit(":", 1)[0])
+    return found
+
+
+@pytest.mark.skipif(not os.path.exists("/proc/net/tcp"), reason="reads the Linux socket table")
+def test_serve_binds_the_web_viewer_to_loopback_and_stops_it(cli, test_log):
+    proc = cli.start("view", str(test_log.path), "--serve")
+    line = ""
+    deadline = time.monotonic() + 60
+    while "serving the view at" not in line and time.monotonic() < deadline:
+        line = proc.stdout.readline()
+    match = re.search(r"http://127\.0\.0\.1:(\d+)/\?url=rerun%2Bhttp%3A%2F%2F127\.0\.0\.1%3A(\d+)", line)
+    assert match, line
+    web, grpc = int(match[1]), int(match[2])
+    for port in (web, grpc):
+        assert _listening_on(port) == ["0100007F"], port  # 127.0.0.1 only
+    proc.send_signal(signal.SIGINT)
+    cli.finish(proc)
+    assert proc.returncode == 0
+    deadline = time.monotonic() + 10
+    while (_listening_on(web) or _listening_on(grpc)) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert not _listening_on(web) and not _listening_on(grpc)  # the server stopped with the command
+
+
+def _bad_view_inputs(tmp_path, test_log, no_axis_log):
+    not_mcap = tmp_path / "notes.mcap"
+    not_mcap.write_text("not a recording\n")
+    (tmp_path / "folder.rrd").mkdir()
+    out = str(tmp_path / "out.rrd")
+    return [
+        (["view", str(tmp_path / "missing.mcap"), "-o", out], "does not exist"),
+        (["view", str(not_mcap), "-o", out], "is not an MCAP file"),
+        (["view", str(no_axis_log), "-o", out], r"holds no axis.*/camera/info"),
+        (["view", str(test_log.path), "-o", str(tmp_path / "nowhere" / "x.rrd")], "does not exist"),
+        (["view", str(test_log.path), "-o", str(tmp_path / "folder.rrd")], "is a directory"),
+        (["view", "--live", "--keys", "axisflow/**/a**", "-o", out], "not a valid Zenoh key expression"),
+        (["view", "--live"], "give -o FILE.rrd, --spawn or --serve"),
+        (["view", str(test_log.path), "--live", "-o", out], "give no LOG.mcap"),
+        (["view", str(test_log.path), "--duration", "3", "-o", out], "--live only"),
+        (["view"], "nothing to view"),
+        *(
+            [(["view", str(test_log.path), "--spawn"], "--spawn needs a display")]
+            if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
+            else []
+        ),
+    ]
+
+
+def test_bad_view_input_is_one_line_exit_2_and_writes_nothing(tmp_path, test_log, no_axis_log, capsys):
+    for args, message in _bad_view_inputs(tmp_path, test_log, no_axis_log):
+        before = sorted(os.listdir(tmp_path))
+        assert main(args) == 2, args
+        lines = capsys.readouterr().err.strip().splitlines()
+        assert len(lines) == 1 and lines[0].startswith("axisflow view: error:"), (args, lines)
+        assert re.search(message, lines[0]), (args, lines[0])
+        assert sorted(os.listdir(tmp_path)) == before, args
+
+
+def test_bad_figure_input_is_one_line_exit_2_and_writes_nothing(tmp_path, capsys):
+    (tmp_path / "file").write_text("x")
+    for args, message in (
+        (["figures", "--out", str(tmp_path / "file")], "not a folder"),
+        (
+            ["figures", "--out", str(tmp_path / "figs"), "--excitation", str(tmp_path / "no.mcap")],
+            "does not exist",
+        ),
+        (
+            ["figures", "--out", str(tmp_path / "figs"), "--recording", str(tmp_path / "file")],
+            "not an MCAP file",
+        ),
+    ):
+        assert main(args) == 2, args
+        lines = capsys.readouterr().err.strip().splitlines()
+        assert len(lines) == 1 and message in lines[0], (args, lines)
+    assert sorted(os.listdir(tmp_path)) == ["file"]

@@ -1,0 +1,275 @@
+"""Where a view goes: an .rrd file (written atomically), a native viewer, or a web viewer served on
+loopback — any combination, through one rerun recording stream.
+
+* **File** (``-o FILE.rrd``): the stream is saved to a temporary file beside FILE and renamed onto it
+  when the view finished; a failure (bad input found late, Ctrl-C of a log view, a crash) leaves
+  nothing half-written. :func:`check_rrd_path` refuses an unusable FILE before any work.
+* **Viewer** (``--spawn``): the rerun viewer is started as a process of its own (detached: it stays
+  when the command ends), its server bound to 127.0.0.1, and the stream connects to it.
+* **Web** (``--serve``): ``rerun --serve-web`` as a child process, its gRPC proxy and its web viewer
+  both bound to 127.0.0.1 (the SDK's ``serve_grpc``/``serve_web_viewer`` bind every interface); it
+  stops when the command ends.
+
+Every rerun process started here runs with ``CI=1`` (the rerun CLI's analytics stay off).
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+import uuid
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+from types import TracebackType
+from typing import Any
+from urllib.parse import quote
+
+import rerun as rr
+import rerun.blueprint as rrb
+
+from .errors import OutputError, VizError
+
+APPLICATION_ID = "axisflow_view"
+LOOPBACK = "127.0.0.1"
+VIEWER_START_TIMEOUT_S = 20.0
+_STOP_TIMEOUT_S = 5.0
+
+
+def rerun_env() -> dict[str, str]:
+    """The environment of a rerun process we start: ours with analytics off (``CI=1``)."""
+    return {**os.environ, "CI": "1", "RUST_LOG": os.environ.get("RUST_LOG", "warn")}
+
+
+def check_rrd_path(path: str | Path) -> Path:
+    """``path`` if an .rrd can be written there (its folder exists and is writable, it is not a
+    folder); else an :class:`OutputError` naming it. Creates nothing."""
+    p = Path(path)
+    folder = p.parent if str(p.parent) else Path(".")
+    if p.is_dir():
+        raise OutputError(f"output {p} is a directory, not a .rrd file")
+    if not folder.is_dir():
+        raise OutputError(f"output {p}: folder {folder} does not exist")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise OutputError(f"output {p}: folder {folder} is not writable")
+    if p.exists() and not os.access(p, os.W_OK):
+        raise OutputError(f"output {p} exists and is not writable")
+    return p
+
+
+@contextmanager
+def atomic_file(path: str | Path) -> Iterator[Path]:
+    """A temporary path beside ``path`` to write to; renamed onto ``path`` when the block ends
+    normally, removed when it raises — so ``path`` is either the old file or the whole new one."""
+    target = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".part", dir=target.parent)
+    os.close(fd)
+    part = Path(tmp)
+    try:
+        yield part
+        os.chmod(part, 0o666 & ~_umask())  # mkstemp makes 0600; a result file gets the usual mode
+        os.replace(part, target)
+    except BaseException:
+        part.unlink(missing_ok=True)
+        raise
+
+
+def check_output_folder(path: str | Path) -> Path:
+    """``path`` if it is a folder that exists or can be created (its nearest existing ancestor is a
+    writable folder); else an :class:`OutputError`. Creates nothing."""
+    p = Path(path)
+    if p.exists():
+        if not p.is_dir():
+            raise OutputError(f"output folder {p} exists and is not a folder")
+        if not os.access(p, os.W_OK | os.X_OK):
+            raise OutputError(f"output folder {p} is not writable")
+        return p
+    ancestor = p.absolute().parent
+    while not ancestor.exists():
+        ancestor = ancestor.parent
+    if not ancestor.is_dir() or not os.access(ancestor, os.W_OK | os.X_OK):
+        raise OutputError(f"output folder {p} cannot be created: {ancestor} is not a writable folder")
+    return p
+
+
+def check_display() -> None:
+    """A :class:`VizError` on a Linux machine without a display, where the native viewer cannot open
+    (it would start, listen and die: ``neither WAYLAND_DISPLAY nor … DISPLAY is set``)."""
+    if sys.platform.startswith("linux") and not (
+        os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")
+    ):
+        raise VizError(
+            "--spawn needs a display (neither DISPLAY nor WAYLAND_DISPLAY is set): use -o FILE.rrd, or "
+            "--serve for a web viewer on 127.0.0.1"
+        )
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind((LOOPBACK, 0))
+        return s.getsockname()[1]
+
+
+def _start_rerun(args: list[str]) -> subprocess.Popen:
+    """``rerun ARGS`` as a process in a process group of its own (``python -m rerun`` runs the rerun
+    binary as its child: stopping it means signalling the group); its error output goes to a temporary
+    file (read if it fails)."""
+    errors = tempfile.TemporaryFile()  # noqa: SIM115 - owned by the process object, closed with it
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "rerun", *args],
+        stdin=subprocess.DEVNULL,
+        stdout=subprocess.DEVNULL,
+        stderr=errors,
+        env=rerun_env(),
+        start_new_session=True,
+    )
+    proc.errors = errors  # type: ignore[attr-defined]
+    return proc
+
+
+def _wait_listening(proc: subprocess.Popen, port: int, what: str) -> None:
+    deadline = time.monotonic() + VIEWER_START_TIMEOUT_S
+    while True:
+        if proc.poll() is not None:
+            proc.errors.seek(0)  # type: ignore[attr-defined]
+            err = proc.errors.read().decode("utf-8", "replace").strip()  # type: ignore[attr-defined]
+            last = err.splitlines()[-1] if err else "no output"
+            raise VizError(f"{what} exited with code {proc.returncode} before listening: {last}")
+        with socket.socket() as s:
+            s.settimeout(0.2)
+            if s.connect_ex((LOOPBACK, port)) == 0:
+                return
+        if time.monotonic() > deadline:
+            raise VizError(f"{what} did not listen on {LOOPBACK}:{port} within {VIEWER_START_TIMEOUT_S:g} s")
+        time.sleep(0.05)
+
+
+def proxy_url(port: int) -> str:
+    """The gRPC proxy URL of a rerun server on loopback."""
+    return f"rerun+http://{LOOPBACK}:{port}/proxy"
+
+
+@dataclass(frozen=True)
+class ViewOutput:
+    """Where the view goes (at least one)."""
+
+    rrd: Path | None = None
+    spawn: bool = False
+    serve: bool = False
+    web_port: int = 0
+    """port of the web viewer for ``serve`` (0: a free one)"""
+
+    def __post_init__(self) -> None:
+        if self.rrd is None and not self.spawn and not self.serve:
+            raise VizError("nowhere to send the view: give -o FILE.rrd, --spawn or --serve")
+        if self.rrd is not None:
+            check_rrd_path(self.rrd)
+        if self.spawn:
+            check_display()
+
+
+class RerunOutput:
+    """A recording stream connected to the outputs of a :class:`ViewOutput` (a context manager).
+
+    On a clean exit the stream is flushed and the .rrd renamed into place; on an exception the
+    temporary file is removed. A served web viewer stops on exit; a spawned viewer stays.
+    """
+
+    def __init__(self, output: ViewOutput, blueprint: rrb.Blueprint | None = None) -> None:
+        self.output = output
+        self.blueprint = blueprint
+        self.rec = rr.RecordingStream(APPLICATION_ID, recording_id=uuid.uuid4())
+        self.web_url: str | None = None
+        self._file: Any = None
+        """the open :func:`atomic_file` context of the .rrd"""
+        self._server: subprocess.Popen | None = None
+
+    def __enter__(self) -> RerunOutput:
+        sinks: list[object] = []
+        try:
+            if self.output.rrd is not None:
+                self._file = atomic_file(self.output.rrd)
+                sinks.append(rr.FileSink(str(self._file.__enter__())))
+            if self.output.spawn:
+                sinks.append(rr.GrpcSink(self._spawn_viewer()))
+            if self.output.serve:
+                sinks.append(rr.GrpcSink(self._serve_web()))
+            self.rec.set_sinks(*sinks, default_blueprint=self.blueprint)  # type: ignore[arg-type]
+        except BaseException:
+            self._cleanup(success=False)
+            raise
+        return self
+
+    def send_blueprint(self, blueprint: rrb.Blueprint) -> None:
+        """Make ``blueprint`` the active layout (e.g. when a live view finds another axis)."""
+        self.blueprint = blueprint
+        self.rec.send_blueprint(blueprint, make_active=True, make_default=True)
+
+    def __exit__(
+        self, exc_type: type[BaseException] | None, exc: BaseException | None, tb: TracebackType | None
+    ) -> None:
+        self._cleanup(success=exc_type is None)
+
+    def _cleanup(self, success: bool) -> None:
+        try:
+            self.rec.flush()
+            self.rec.disconnect()
+        except BaseException:
+            success = False
+            raise
+        finally:
+            self._stop_server()
+            file, self._file = self._file, None
+            if file is not None:
+                if success:
+                    file.__exit__(None, None, None)
+                else:
+                    file.__exit__(VizError, VizError("view not finished"), None)
+
+    def _spawn_viewer(self) -> str:
+        port = _free_port()
+        # not stopped on exit: the viewer stays open after the command
+        proc = _start_rerun(["--port", str(port), "--bind", LOOPBACK, "--expect-data-soon"])
+        try:
+            _wait_listening(proc, port, "the rerun viewer")
+        finally:
+            proc.errors.close()  # type: ignore[attr-defined]
+        return proxy_url(port)
+
+    def _serve_web(self) -> str:
+        grpc_port = _free_port()
+        web_port = self.output.web_port or _free_port()
+        self._server = _start_rerun(
+            ["--serve-web", "--bind", LOOPBACK, "--port", str(grpc_port), "--web-viewer-port", str(web_port)]
+        )
+        _wait_listening(self._server, grpc_port, "the rerun web server")
+        _wait_listening(self._server, web_port, "the rerun web server")
+        url = proxy_url(grpc_port)
+        self.web_url = f"http://{LOOPBACK}:{web_port}/?url={quote(url, safe='')}"
+        return url
+
+    def _stop_server(self) -> None:
+        proc, self._server = self._server, None
+        if proc is None:
+            return
+        try:
+            os.killpg(proc.pid, signal.SIGTERM)  # the wrapper and the rerun binary
+            proc.wait(_STOP_TIMEOUT_S)
+        except ProcessLookupError:
+            pass
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+        proc.errors.close()  # type: ignore[attr-defined]
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask

@@ -1,0 +1,189 @@
+"""A view of recorded sessions: the axes of one or more MCAP logs as one rerun recording.
+
+An axis is found by its topics (docs/acquisition.md): ``/<prefix>/<axis>/state`` and ``…/setpoint``
+(``sensor_msgs/msg/JointState``), ``…/event`` (``axisflow_msgs/msg/MoveStatus``) and ``…/plan``
+(``axisflow_msgs/msg/PlanResult``); an axis needs a state or a setpoint topic, the others are drawn
+when present. The logs of a session (e.g. the demo's excitation and experiment recordings) land in
+one recording, each axis in one column of the layout, the logs one after the other on the drive-time
+timeline.
+
+Reading uses the fast column reader (:func:`~axisflow.acquisition.read_joint_states`, ~1 s per hour
+of a 1 kHz topic; the state and setpoint topics of an axis are read at once, on two threads) and
+writing ``send_columns`` (:mod:`.scene`). Every log is checked (exists, is MCAP, holds an axis)
+before anything is written.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import rerun as rr
+import rerun.blueprint as rrb
+
+from ..acquisition.log_reader import TopicInfo, list_topics, read_joint_states, read_messages
+from ..acquisition.move_status import MOVE_STATUS_TYPE, MoveStatus
+from ..acquisition.plan_record import PLAN_TYPE, PlanRecord
+from ..model import AxisParams
+from .blueprint import view_blueprint
+from .entities import AxisEntities, axis_label
+from .errors import VizError
+from .outputs import RerunOutput, ViewOutput
+from .samples import AxisSamples
+from .scene import AxisScene
+
+_AXIS_TOPIC = re.compile(r"^/(?P<prefix>.+)/(?P<axis>[^/]+)/(?P<kind>state|setpoint|event|plan)$")
+_KIND_TYPES = {"event": MOVE_STATUS_TYPE, "plan": PLAN_TYPE}
+
+
+@dataclass(frozen=True)
+class AxisTopics:
+    """The topics of one axis in one log (None: absent)."""
+
+    prefix: str
+    axis: str
+    state: str | None = None
+    setpoint: str | None = None
+    event: str | None = None
+    plan: str | None = None
+
+    @property
+    def label(self) -> str:
+        return axis_label(self.prefix, self.axis)
+
+
+def find_axes(topics: Sequence[TopicInfo]) -> list[AxisTopics]:
+    """The axes among a log's topics, sorted by label (see the module docstring)."""
+    found: dict[tuple[str, str], dict[str, str]] = {}
+    for t in topics:
+        m = _AXIS_TOPIC.match(t.topic)
+        if m is None:
+            continue
+        kind = m["kind"]
+        wanted = (
+            t.is_joint_state
+            if kind in ("state", "setpoint")
+            else (t.schema_name == _KIND_TYPES[kind] and t.message_encoding == "cdr")
+        )
+        if wanted:
+            found.setdefault((m["prefix"], m["axis"]), {})[kind] = t.topic
+    axes = [
+        AxisTopics(p, a, **kinds) for (p, a), kinds in found.items() if {"state", "setpoint"} & kinds.keys()
+    ]
+    return sorted(axes, key=lambda a: a.label)
+
+
+@dataclass(frozen=True)
+class SessionLogs:
+    """Logs checked for viewing, with the axes each holds."""
+
+    logs: tuple[tuple[Path, tuple[AxisTopics, ...]], ...]
+
+    @classmethod
+    def open(cls, paths: Sequence[str | Path]) -> SessionLogs:
+        """Check every log (exists, is MCAP, holds an axis); a :class:`VizError` (or the reader's
+        ``RecordingError``) names the first that does not."""
+        if not paths:
+            raise VizError("no log to view: give one or more LOG.mcap")
+        logs = []
+        for path in paths:
+            p = Path(path)
+            topics = list_topics(p)
+            axes = find_axes(topics)
+            if not axes:
+                names = ", ".join(t.topic for t in topics) or "none"
+                raise VizError(
+                    f"{p} holds no axis: no sensor_msgs/msg/JointState topic /<prefix>/<axis>/state or "
+                    f"/<prefix>/<axis>/setpoint (its topics: {names})"
+                )
+            logs.append((p, tuple(axes)))
+        return cls(tuple(logs))
+
+    @property
+    def labels(self) -> list[str]:
+        """Every axis of the session, sorted."""
+        return sorted({a.label for _p, axes in self.logs for a in axes})
+
+    def blueprint(self) -> rrb.Blueprint:
+        return view_blueprint(self.labels)
+
+
+@dataclass
+class AxisSummary:
+    label: str
+    state_samples: int = 0
+    setpoint_samples: int = 0
+    statuses: int = 0
+    plans: int = 0
+
+
+@dataclass
+class SessionSummary:
+    """What :func:`log_session` sent, per axis."""
+
+    logs: list[Path] = field(default_factory=list)
+    axes: dict[str, AxisSummary] = field(default_factory=dict)
+
+    def format(self) -> str:
+        lines = [f"{len(self.logs)} log(s): {', '.join(str(p) for p in self.logs)}"]
+        for a in self.axes.values():
+            lines.append(
+                f"  axis {a.label}: {a.state_samples} state and {a.setpoint_samples} setpoint samples, "
+                f"{a.statuses} move statuses, {a.plans} plan records"
+            )
+        return "\n".join(lines)
+
+
+def log_session(rec: rr.RecordingStream, session: SessionLogs, params: AxisParams) -> SessionSummary:
+    """Send every axis of every log of ``session`` to ``rec`` (limits from ``params``)."""
+    scenes: dict[str, AxisScene] = {}
+    summary = SessionSummary()
+    for path, axes in session.logs:
+        summary.logs.append(path)
+        for topics in axes:
+            scene = scenes.get(topics.label)
+            if scene is None:
+                scene = scenes[topics.label] = AxisScene(rec, AxisEntities(topics.label), params)
+            counts = summary.axes.setdefault(topics.label, AxisSummary(topics.label))
+            _log_axis(scene, path, topics, counts)
+    for scene in scenes.values():
+        scene.finish()
+    return summary
+
+
+def _log_axis(scene: AxisScene, path: Path, topics: AxisTopics, counts: AxisSummary) -> None:
+    """One axis of one log: the records first (so that each move's span is known when its samples
+    come), then the setpoints, then the measured samples (read while the setpoints are)."""
+    if topics.plan is not None:
+        plans = [PlanRecord.decode(m.data) for m in read_messages(path, topics.plan, PLAN_TYPE)]
+        scene.add_plans(plans)
+        counts.plans += len(plans)
+    if topics.event is not None:
+        statuses = [MoveStatus.decode(m.data) for m in read_messages(path, topics.event, MOVE_STATUS_TYPE)]
+        scene.add_statuses(statuses)
+        counts.statuses += len(statuses)
+    with ThreadPoolExecutor(1) as reader:
+        # the two topics share the file's chunks: reading them at once keeps both cores busy
+        state = reader.submit(read_joint_states, path, topics.state) if topics.state is not None else None
+        if topics.setpoint is not None:
+            setpoint = AxisSamples.of_columns(read_joint_states(path, topics.setpoint))
+            scene.add_setpoint(setpoint)
+            counts.setpoint_samples += len(setpoint)
+            del setpoint
+        if state is not None:
+            samples = AxisSamples.of_columns(state.result())
+            scene.add_state(samples)
+            counts.state_samples += len(samples)
+
+
+def write_session_rrd(recordings: Sequence[str | Path], out_rrd: str | Path, params: AxisParams) -> Path:
+    """The view of ``recordings`` (MCAP logs, e.g. a demo session's) saved to ``out_rrd`` with its
+    layout; written atomically (nothing is left at ``out_rrd`` if it fails). Returns ``out_rrd``."""
+    output = ViewOutput(rrd=Path(out_rrd))
+    session = SessionLogs.open(recordings)
+    with RerunOutput(output, session.blueprint()) as out:
+        log_session(out.rec, session, params)
+    return Path(out_rrd)
