@@ -18,6 +18,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import IntEnum
 
+from ..model import EXECUTION_PERIOD_NS
 from .cdr import HEADER_DEPENDENCIES, CdrReader, CdrWriter, read_time, schema_with_dependencies, write_time
 from .errors import WireError
 
@@ -95,6 +96,11 @@ class MoveStatus:
             raise WireError(f"move status {self.state!r} is not one of {known}") from None
         if not 0 <= self.move_id < 2**64:
             raise WireError(f"move_id = {self.move_id} must be in [0, 2**64)")
+
+    def stamp_of(self, tick: int) -> int:
+        """The drive time [ns since the epoch] of ``tick`` on the bridge that published this status
+        (its ticks are 1 ms apart and ``stamp_ns`` is the drive time of ``self.tick``)."""
+        return self.stamp_ns + (tick - self.tick) * EXECUTION_PERIOD_NS
 
     def encode(self) -> bytes:
         w = CdrWriter()

@@ -12,7 +12,9 @@ their own, on an embedded Zenoh peer network on loopback, then, in this process:
 4. **experiment, refit**: the same with the refit parameters (``experiment-refit.mcap``);
 5. **Table 2** of both recordings: planned energy E_th against the measured E_exp
    (``table2-nominal.*``, ``table2-refit.*``); the refit should bring them together — the reason to
-   identify at all.
+   identify at all;
+6. **pictures**: the rerun recording of the whole session (``session.rrd``: ``rerun session.rrd``) and
+   the paper's figures (``figures/``: Fig. 2 from this excitation, Fig. 5 from the refit run).
 
 Everything lands in one session folder. The bridge runs as fast as the recorder takes its samples
 (``--speed 0``) so that ~25 minutes of axis time take a few minutes; the way point count defaults to
@@ -46,9 +48,13 @@ from .model import AxisflowError, AxisParams, load_params
 from .planner import DEFAULT_OMEGA, make_backend
 from .planner_node import NodeRun, NodeSettings, PlannerNode
 from .table2 import RecordedTable, table_from_recording, table_markdown
+from .viz.figures import write_figures
+from .viz.session import write_session_rrd
 from .waypoints import random_waypoints
 
 DEFAULT_WAYPOINTS = 50
+FIGURE_WAYPOINTS = 25
+"""way points of Fig. 5 (the paper's 25)"""
 DEFAULT_LOOKAHEAD = 1
 DEFAULT_LOOKAHEAD_S = 10.0
 """drive time kept queued behind the running move [s]: at --speed 0 the bridge runs ~11× real time on
@@ -172,6 +178,13 @@ def run_demo(
                 report.tables[label] = _table(out, path, label)
                 report.phases_s[f"experiment-{label}"] = time.monotonic() - t0
         children.stop("bridge")
+        t0 = time.monotonic()
+        recordings = [out / "excitation.mcap", out / "experiment-nominal.mcap", out / "experiment-refit.mcap"]
+        write_session_rrd(recordings, out / "session.rrd", nominal)
+        first = random_waypoints(FIGURE_WAYPOINTS, settings.seed, nominal)
+        write_figures(out / "figures", refit, first, excitation=out / "excitation.mcap")
+        report.phases_s["pictures"] = time.monotonic() - t0
+        progress(f"rerun recording {out / 'session.rrd'}, figures in {out / 'figures'}")
     finally:
         children.stop_all()
     report.wall_time_s = time.monotonic() - t_start

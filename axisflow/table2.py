@@ -37,7 +37,7 @@ from .acquisition import (
     read_messages,
     topic_for_key,
 )
-from .model import EXECUTION_PERIOD_NS, EXECUTION_PERIOD_S, AxisflowError, EnergyAccounting, trace_energy
+from .model import EXECUTION_PERIOD_S, AxisflowError, EnergyAccounting, trace_energy
 from .paper import PAPER_TABLE2, PAPER_WAYPOINTS
 
 
@@ -172,11 +172,6 @@ def _rows(
     return list(rows.values())
 
 
-def _tick_stamp(status: MoveStatus, tick: int) -> int:
-    """The drive time [ns] of ``tick`` on the bridge that published ``status``."""
-    return status.stamp_ns + (tick - status.tick) * EXECUTION_PERIOD_NS
-
-
 def _measure(row: RecordedRow, state: JointStateColumns, accounting: EnergyAccounting) -> None:
     """E_exp of each completed move: ∫ g(τ_m·ω_m) dt over its ticks [start, end] (both ends included)."""
     motor = state.joint("motor")
@@ -188,8 +183,8 @@ def _measure(row: RecordedRow, state: JointStateColumns, accounting: EnergyAccou
         acc = move.accepted
         if acc is None:
             continue
-        lo = np.searchsorted(stamps, _tick_stamp(acc, acc.start_tick), "left")
-        hi = np.searchsorted(stamps, _tick_stamp(acc, acc.end_tick), "right")
+        lo = np.searchsorted(stamps, acc.stamp_of(acc.start_tick), "left")
+        hi = np.searchsorted(stamps, acc.stamp_of(acc.end_tick), "right")
         move.energy_measured_j = trace_energy(speed[lo:hi], torque[lo:hi], EXECUTION_PERIOD_S, accounting)
 
 
@@ -200,8 +195,8 @@ def _idle_ticks(row: RecordedRow, setpoint: JointStateColumns) -> list[int]:
     for a, b in zip(row.moves, row.moves[1:], strict=False):
         if a.accepted is None or b.accepted is None:
             continue
-        end = _tick_stamp(a.accepted, a.accepted.end_tick)
-        start = _tick_stamp(b.accepted, b.accepted.start_tick)
+        end = a.accepted.stamp_of(a.accepted.end_tick)
+        start = b.accepted.stamp_of(b.accepted.start_tick)
         idle.append(int(np.searchsorted(stamps, start, "left") - np.searchsorted(stamps, end, "left")))
     return idle
 

@@ -23,18 +23,13 @@ import numpy as np
 
 from ..acquisition.move_status import MoveState, MoveStatus
 from ..acquisition.plan_record import PlanRecord
-from ..model import EXECUTION_PERIOD_NS, EXECUTION_PERIOD_S, EnergyAccounting, trace_energy
+from ..model import EXECUTION_PERIOD_S, EnergyAccounting, trace_energy
 from .samples import AxisSamples
 
 SAMPLE_HISTORY_NS = 2_000_000_000
 """measured samples kept [ns] behind the newest one while no move is open: a move accepted to start
 on the current tick may be announced after that tick's sample arrived"""
 _ENDED = (MoveState.REJECTED, MoveState.DROPPED, MoveState.STOPPED)
-
-
-def tick_stamp_ns(status: MoveStatus, tick: int) -> int:
-    """The drive time [ns since the epoch] of ``tick`` on the bridge that published ``status``."""
-    return status.stamp_ns + (tick - status.tick) * EXECUTION_PERIOD_NS
 
 
 @dataclass(frozen=True)
@@ -93,8 +88,8 @@ class MoveLedger:
         if status.state is MoveState.ACCEPTED and key not in self._spans:
             span = _Span(
                 status.move_id,
-                tick_stamp_ns(status, status.start_tick),
-                tick_stamp_ns(status, status.end_tick),
+                status.stamp_of(status.start_tick),
+                status.stamp_of(status.end_tick),
             )
             self._spans[key] = self._open[key] = span
             return self._planned(key)

@@ -31,7 +31,6 @@ from ..acquisition.plan_record import PLAN_TYPE, PlanRecord
 from ..model import EXECUTION_PERIOD_S, AxisParams, cart_force, motor_torque, move_ticks
 from ..planner import DEFAULT_OMEGA, Case, MoveProblem, make_backend
 from .errors import VizError
-from .moves import tick_stamp_ns
 from .png import png_bytes, pyplot
 from .samples import AxisSamples
 
@@ -110,7 +109,7 @@ def recorded_traces(
         for p in sorted((p for p in plans if p.law == law), key=lambda p: p.stamp_ns):
             st = accepted.get((p.sender, p.move_id))
             if st is not None:
-                spans.append((tick_stamp_ns(st, st.start_tick), tick_stamp_ns(st, st.end_tick)))
+                spans.append((st.stamp_of(st.start_tick), st.stamp_of(st.end_tick)))
         if not spans:
             continue  # the recording has no run of this law
         start, end = spans[0][0], spans[-1][1]

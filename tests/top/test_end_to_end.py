@@ -80,9 +80,15 @@ def test_the_demo_closes_the_loop(cli, tmp_path):
     for row, error in summary["energy_error_pct"]["refit"].items():
         assert abs(error) < 1.0, row  # the refit brings E_th and E_exp together ...
         assert abs(summary["energy_error_pct"]["nominal"][row]) > 3 * abs(error)  # ... the nominal does not
-    for name in ("excitation.mcap", "experiment-nominal.mcap", "experiment-refit.mcap", "table2-refit.json",
-                 "table2-nominal.md", "refit/params.toml", "refit/fit.png"):  # fmt: skip
+    written = ("excitation.mcap", "experiment-nominal.mcap", "experiment-refit.mcap", "table2-refit.json",
+               "table2-nominal.md", "refit/params.toml", "refit/fit.png", "session.rrd", "figures/fig2.png",
+               "figures/fig4a.png", "figures/fig4b.png", "figures/fig5a.png")  # fmt: skip
+    for name in written:
         assert (out / name).is_file(), name
+    from rerun.chunk import RrdReader
+
+    paths = {str(c.entity_path) for c in RrdReader(str(out / "session.rrd")).store().stream()}
+    assert any(p.startswith("/axes/a0/") for p in paths), sorted(paths)[:10]
     # the recordings open in rosbags and in rerun's MCAP importer
     from rosbags.highlevel import AnyReader
 
