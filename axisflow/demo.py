@@ -42,14 +42,10 @@ from .excite import run_excitation
 from .experiment import CASES, LAWS
 from .files import write_atomic
 from .identification.excitation import design_excitation
-from .identification.refit import IdentifySettings
-from .identify import identify_to
 from .model import AxisflowError, AxisParams, load_params
 from .planner import DEFAULT_OMEGA, make_backend
 from .planner_node import NodeRun, NodeSettings, PlannerNode
 from .table2 import RecordedTable, table_from_recording, table_markdown
-from .viz.figures import write_figures
-from .viz.session import write_session_rrd
 from .waypoints import random_waypoints
 
 DEFAULT_WAYPOINTS = 50
@@ -161,6 +157,9 @@ def run_demo(
             _check_alive(bridge)
             # 2. identification
             t0 = time.monotonic()
+            from .identification.refit import IdentifySettings  # CasADi: loaded when the demo fits
+            from .identify import identify_to
+
             _ident, refit_report = identify_to(
                 out / "refit", [out / "excitation.mcap"], nominal, IdentifySettings()
             )
@@ -179,6 +178,9 @@ def run_demo(
                 report.phases_s[f"experiment-{label}"] = time.monotonic() - t0
         children.stop("bridge")
         t0 = time.monotonic()
+        from .viz.figures import write_figures  # rerun and matplotlib: loaded when the demo draws
+        from .viz.session import write_session_rrd
+
         recordings = [out / "excitation.mcap", out / "experiment-nominal.mcap", out / "experiment-refit.mcap"]
         write_session_rrd(recordings, out / "session.rrd", nominal)
         first = random_waypoints(FIGURE_WAYPOINTS, settings.seed, nominal)

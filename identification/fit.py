@@ -24,7 +24,6 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
-import casadi as ca
 import numpy as np
 
 from ..model import AxisParams, friction_expression, friction_force
@@ -106,6 +105,8 @@ class FrictionFit:
         fit: tuple[str, ...] = PARAMETERS,
         max_iter: int = DEFAULT_MAX_ITER,
     ) -> None:
+        import casadi as ca  # here, not at import: reading logs and designing excitations need none
+
         self.names = check_fit_names(fit)
         self.initial = FrictionValues.of(nominal)
         start = self.initial.as_dict()

@@ -29,9 +29,9 @@ from ..identification.refit import IdentifySettings, identify
 from ..model import AxisParams
 from ..planner import Case
 from .energy_map_figure import energy_map, energy_map_png
+from .files import atomic_file, check_output_folder
 from .identification_figure import identification_png
 from .iteration_cap_figure import cap_study, iteration_cap_png
-from .outputs import atomic_file, check_output_folder
 from .trajectory_figure import CASE_TITLES, planned_traces, recorded_traces, trajectory_png
 
 FIGURE_FILES = ("fig2.png", "fig4a.png", "fig4b.png", "fig5a.png", "fig5b.png")

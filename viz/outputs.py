@@ -23,8 +23,6 @@ import sys
 import tempfile
 import time
 import uuid
-from collections.abc import Iterator
-from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from types import TracebackType
@@ -35,6 +33,7 @@ import rerun as rr
 import rerun.blueprint as rrb
 
 from .errors import OutputError, VizError
+from .files import atomic_file
 
 APPLICATION_ID = "axisflow_view"
 LOOPBACK = "127.0.0.1"
@@ -60,41 +59,6 @@ def check_rrd_path(path: str | Path) -> Path:
         raise OutputError(f"output {p}: folder {folder} is not writable")
     if p.exists() and not os.access(p, os.W_OK):
         raise OutputError(f"output {p} exists and is not writable")
-    return p
-
-
-@contextmanager
-def atomic_file(path: str | Path) -> Iterator[Path]:
-    """A temporary path beside ``path`` to write to; renamed onto ``path`` when the block ends
-    normally, removed when it raises — so ``path`` is either the old file or the whole new one."""
-    target = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".part", dir=target.parent)
-    os.close(fd)
-    part = Path(tmp)
-    try:
-        yield part
-        os.chmod(part, 0o666 & ~_umask())  # mkstemp makes 0600; a result file gets the usual mode
-        os.replace(part, target)
-    except BaseException:
-        part.unlink(missing_ok=True)
-        raise
-
-
-def check_output_folder(path: str | Path) -> Path:
-    """``path`` if it is a folder that exists or can be created (its nearest existing ancestor is a
-    writable folder); else an :class:`OutputError`. Creates nothing."""
-    p = Path(path)
-    if p.exists():
-        if not p.is_dir():
-            raise OutputError(f"output folder {p} exists and is not a folder")
-        if not os.access(p, os.W_OK | os.X_OK):
-            raise OutputError(f"output folder {p} is not writable")
-        return p
-    ancestor = p.absolute().parent
-    while not ancestor.exists():
-        ancestor = ancestor.parent
-    if not ancestor.is_dir() or not os.access(ancestor, os.W_OK | os.X_OK):
-        raise OutputError(f"output folder {p} cannot be created: {ancestor} is not a writable folder")
     return p
 
 
@@ -267,9 +231,3 @@ class RerunOutput:
             os.killpg(proc.pid, signal.SIGKILL)
             proc.wait()
         proc.errors.close()  # type: ignore[attr-defined]
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask

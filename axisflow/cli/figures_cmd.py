@@ -56,7 +56,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ..viz.figures import render_figures, save_figures
-    from ..viz.outputs import check_output_folder
+    from ..viz.files import check_output_folder
 
     params = params_from_args(args)
     out = check_output_folder(args.out)  # a bad --out fails before the work, not after it
