@@ -9,13 +9,15 @@ and watches the move senders' tokens ``<prefix>/<axis>/sender/*``. Moves arrivin
 1. applies the senders that appeared or disappeared: a sender gone drops its moves that have not
    started (and those queued after them); the running move ends at rest;
 2. queues the moves validated since the last tick (:class:`~axisflow.acquisition.move_queue.MoveQueue`),
-   in arrival order; a move is accepted only from a live sender (one whose token has not arrived yet
-   is held up to :data:`SENDER_GRACE_S`: the token and the move travel separately);
+   in arrival order, at most :data:`MOVES_PER_TICK` a tick (a burst is spread over ticks); a move is
+   accepted only from a live sender (one whose token has not arrived yet is held up to
+   :data:`SENDER_GRACE_S`: the token and the move travel separately);
 3. reads the drive's sample and publishes it on ``state``;
 4. computes the setpoint of tick k, publishes it on ``setpoint`` and applies it to the drive.
 
 Every step of a move's life (accepted, rejected with the reason, started, completed, dropped) is a
-typed :class:`~axisflow.acquisition.move_status.MoveStatus` on ``<prefix>/<axis>/event``.
+typed :class:`~axisflow.acquisition.move_status.MoveStatus` on ``<prefix>/<axis>/event``, published
+after the tick's setpoint, at most :data:`STATUSES_PER_TICK` a tick (in order; each names its tick).
 
 :meth:`Bridge.run` paces the steps: at ``speed`` > 0 tick k starts at ``start + k·1 ms / speed`` on
 the monotonic clock (a late tick runs at once; the schedule does not drift); at ``speed`` 0 ticks run
@@ -55,6 +57,14 @@ log = logging.getLogger(__name__)
 
 SENDER_GRACE_S = 0.5
 """how long [s of wall time] a move may wait for its sender's liveliness token to arrive"""
+MOVES_PER_TICK = 4
+"""moves the loop takes per tick from the intake, and from those waiting for their sender's token:
+a burst of thousands (valid or not) is spread over ticks instead of stalling one, since each costs a
+status message and a log line on the loop (~20–60 µs)"""
+STATUSES_PER_TICK = 8
+"""move statuses published per tick, after the tick's setpoint; more wait in order for the next ticks
+(a sender that vanishes, or a quick stop, can drop a whole queue of 1024 moves at once: their statuses
+go out over ~130 ms instead of stalling one tick by ~20 ms). Each carries the tick it happened at."""
 _SLEEP_MARGIN_NS = 80_000  # wake this early and spin the rest: time.sleep overshoots ~50–100 µs
 
 
@@ -157,6 +167,8 @@ class Bridge:
         self._alive: set[bytes] = set()
         self._gone: set[bytes] = set()
         self._pending: deque[tuple[ReceivedMove, float]] = deque()
+        self._outbox: deque[MoveStatus] = deque()
+        """statuses not published yet (at most STATUSES_PER_TICK go out per tick)"""
         self._queue: MoveQueue | None = None
 
     # ---- set-up and tear-down ---------------------------------------------------------------------
@@ -205,6 +217,7 @@ class Bridge:
             self.report.moves_missed = self._intake.missed
             if self._queue is not None:
                 self.report.moves_completed = self._queue.completed
+            self._send_statuses(len(self._outbox))
         finally:
             self._stack.close()
 
@@ -230,6 +243,7 @@ class Bridge:
             self._status(MoveState.STARTED, q, f"started move {q.command.move_id}")
         self._setpoint_pub.put(step.setpoint.to_sample(sample.stamp_ns, self.keys.axis, self.params).encode())
         self.drive.apply(step.setpoint)
+        self._send_statuses(STATUSES_PER_TICK)
         self.tick += 1
 
     def _apply_sender_tokens(self) -> None:
@@ -257,16 +271,19 @@ class Bridge:
                 log.warning("sender %s disappeared: dropped %d queued moves", gid.hex(), len(dropped))
 
     def _take_moves(self) -> None:
-        """Queue the moves validated since the last tick, in arrival order; a move whose sender's
-        token has not arrived yet waits for it (the token and the move travel separately), at most
+        """Queue the moves validated since the last tick, in arrival order, at most
+        :data:`MOVES_PER_TICK` a tick (the rest wait for the next ticks); a move whose sender's token
+        has not arrived yet waits for it (the token and the move travel separately), at most
         :data:`SENDER_GRACE_S`."""
         assert self._queue is not None
-        for received in self._intake.poll():
+        for received in self._intake.poll(MOVES_PER_TICK):
             if received.error:
                 self._reject(received, received.error)
             else:
                 self._pending.append((received, time.monotonic() + SENDER_GRACE_S))
-        while self._pending:
+        for _ in range(MOVES_PER_TICK):
+            if not self._pending:
+                break
             received, deadline = self._pending[0]
             sender = received.sender
             if sender not in self._alive:
@@ -365,7 +382,11 @@ class Bridge:
         return self._queue.stamp_of(self.tick)
 
     def _publish(self, status: MoveStatus) -> None:
-        self._status_pub.put(status.encode())
+        self._outbox.append(status)
+
+    def _send_statuses(self, limit: int) -> None:
+        for _ in range(min(limit, len(self._outbox))):
+            self._status_pub.put(self._outbox.popleft().encode())
 
     # ---- the paced loop ---------------------------------------------------------------------------
     def run(self, stop: threading.Event | None = None) -> BridgeReport:

@@ -14,6 +14,7 @@ drive) are never replayed: a recording must not command a live axis. They are co
 
 from __future__ import annotations
 
+import itertools
 import threading
 import time
 from dataclasses import dataclass
@@ -21,7 +22,7 @@ from pathlib import Path
 
 import zenoh
 
-from .errors import AcquisitionError
+from .errors import AcquisitionError, RecordingError
 from .keys import key_for_topic
 from .messages import MOVE_TYPE
 from .publisher import SequencedPublisher, Traffic, wait_for_subscribers
@@ -60,12 +61,19 @@ def replay(
     wait_subscribers_s: float = 0.0,
     keys: str = "**",
 ) -> ReplayReport:
-    """Publish the messages of ``path`` (complete or truncated) back over Zenoh."""
+    """Publish the messages of ``path`` (complete or truncated) back over Zenoh; a file with no
+    complete message is a :class:`RecordingError` (nothing to replay is not a replay)."""
     if not speed >= 0.0:
         raise AcquisitionError(f"replay speed = {speed} must be >= 0 (0 = as fast as possible)")
     if not wait_subscribers_s >= 0.0:
         raise AcquisitionError(f"replay wait for subscribers = {wait_subscribers_s} s must be >= 0 s")
     wanted = check_key_expression(keys)
+    records = iter_recording(path)
+    first_record = next(records, None)
+    if first_record is None:
+        raise RecordingError(
+            f"{path} holds no complete message to replay (its first chunk was never written)"
+        )
     stop = stop or threading.Event()
     traffic = Traffic.BULK if speed == 0 else Traffic.TELEMETRY
     publishers: dict[str, SequencedPublisher] = {}
@@ -74,7 +82,7 @@ def replay(
     first_t = last_t = 0
     t0 = time.monotonic_ns()
     try:
-        for rec in iter_recording(path):
+        for rec in itertools.chain([first_record], records):
             if stop.is_set():
                 break
             topic = rec.channel.topic

@@ -314,15 +314,19 @@ class _PlantState:
             raise PlantError(f"plant state file {path} cannot be opened: {exc.strerror}") from None
         self.path = path
         with os.fdopen(fd, "r+b") as fh:
-            if os.fstat(fh.fileno()).st_size != _STATE.size:
-                self._fresh = os.fstat(fh.fileno()).st_size == 0
+            size = os.fstat(fh.fileno()).st_size
+            if size not in (0, _STATE.size):  # not ours: never truncate someone's file
+                raise PlantError(
+                    f"plant state file {path} holds {size} bytes, not a plant state ({_STATE.size} bytes: "
+                    "x [m], v [m/s]); give a new file or one a bridge wrote"
+                )
+            self._fresh = size == 0
+            if self._fresh:
                 fh.truncate(_STATE.size)
-            else:
-                self._fresh = False
             self._map = mmap.mmap(fh.fileno(), _STATE.size)
 
     def load(self) -> tuple[float, float] | None:
-        """The saved (x, v), or None for a new file (or one that is not a plant state)."""
+        """The saved (x, v), or None for a new (empty) file."""
         if self._fresh:
             return None
         x, v = _STATE.unpack_from(self._map, 0)

@@ -27,23 +27,33 @@ def ensure_dir(path: str | Path) -> Path:
 
 
 def check_output_dir(path: str | Path) -> Path:
-    """Fail early, creating nothing, if ``path`` could not be used by :func:`ensure_dir` later: it is
-    a file, or its nearest existing ancestor is a file or not writable."""
+    """Fail early, leaving nothing behind, if ``path`` could not be used by :func:`ensure_dir` later:
+    it is a file, or its nearest existing ancestor is a file or takes no new entries.
+
+    Whether a folder takes new entries is tried (a temporary folder made and removed), not asked:
+    ``os.access`` says yes to root on a read-only or virtual file system such as /proc."""
     p = Path(path)
     if p.exists():
         if not p.is_dir():
             raise OutputError(f"output directory {p} exists and is not a directory")
-        if not os.access(p, os.W_OK | os.X_OK):
-            raise OutputError(f"output directory {p} is not writable")
+        _try_writing(p, f"output directory {p} is not writable")
         return p
     ancestor = p.absolute().parent
     while not ancestor.exists():
         ancestor = ancestor.parent
     if not ancestor.is_dir():
         raise OutputError(f"output directory {p} cannot be created: {ancestor} is not a directory")
-    if not os.access(ancestor, os.W_OK | os.X_OK):
-        raise OutputError(f"output directory {p} cannot be created: {ancestor} is not writable")
+    _try_writing(ancestor, f"output directory {p} cannot be created: {ancestor} is not writable")
     return p
+
+
+def _try_writing(folder: Path, message: str) -> None:
+    """Make and remove a temporary folder in ``folder``; an :class:`OutputError` with ``message`` and
+    the system's reason if that fails."""
+    try:
+        os.rmdir(tempfile.mkdtemp(prefix=".axisflow-write-test-", dir=folder))
+    except OSError as exc:
+        raise OutputError(f"{message} ({exc.strerror})") from None
 
 
 def _umask() -> int:

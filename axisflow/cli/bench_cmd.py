@@ -16,6 +16,7 @@ BENCHMARKS: dict[str, str] = {
     "planner": "planner",
     "identify": "identify",
     "view": "view",
+    "faults": "faults",
 }
 
 

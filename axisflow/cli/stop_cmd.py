@@ -40,6 +40,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    if not args.timeout > 0:
+        raise AxisflowError(f"--timeout {args.timeout:g} s must be > 0 s")
     keys = AxisKeys(args.axis, args.prefix)
     with open_session(zenoh_options_from_args(args)) as session, MoveSender(session, keys) as sender:
         if not sender.wait_for_bridge(args.timeout):

@@ -1,0 +1,788 @@
+"""Bad input, catalogued: every command, as a new user would get it wrong.
+
+Each case must end with exit code 2 and exactly one error line on stderr that names the value (and,
+where there is one, the limit and its unit); no traceback, nothing on stdout, and the output it
+would have written absent or unchanged. Errors found by argparse (a value that is not a number, an
+unknown choice) come after argparse's usage lines, which the command line does not control
+(axisflow/cli/__init__.py); those cases are marked ``usage=True``. The same list, with the messages,
+is in docs/trust.md.
+
+The table runs in-process (``axisflow.cli.main``); the three slips our issue found, and piping into
+``head``, run as real processes.
+"""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+from axisflow.acquisition import AxisSample
+from axisflow.acquisition.mcap_writer import Ros2McapWriter
+from axisflow.acquisition.messages import JOINT_STATE_TYPE, MOVE_TYPE
+from axisflow.model import default_params
+
+from axisflow.cli import main
+
+CLI = [sys.executable, "-c", "import sys; from axisflow.cli import main; sys.exit(main())"]
+LOOPBACK = ("--listen", "tcp/127.0.0.1:0")  # a session that reaches for nobody else's peers
+T0_NS = 1_700_000_000_000_000_000
+
+
+@dataclass(frozen=True)
+class Case:
+    id: str
+    args: tuple[str, ...]
+    says: tuple[str, ...]
+    """fragments the one error line must contain: the value, the limit, the unit"""
+    untouched: tuple[str, ...] = ()
+    """paths (in the working folder) that must be absent afterwards, or unchanged if they existed"""
+    usage: bool = False
+    """argparse's error: its usage lines come first"""
+
+
+def case(
+    name: str, *args: str, says: tuple[str, ...], untouched: tuple[str, ...] = (), usage: bool = False
+) -> Case:
+    return Case(name, args, says, untouched, usage)
+
+
+CASES = [
+    # parameters
+    case(
+        "params: missing file", "params", "--params", "missing.toml", says=("missing.toml", "does not exist")
+    ),
+    case(
+        "params: unknown key",
+        "params",
+        "--params",
+        "unknown.toml",
+        says=("unknown.toml", "unknown key(s) foo"),
+    ),
+    case(
+        "params: negative mass", "params", "--params", "negative.toml", says=("m = -3.0 kg", "must be > 0 kg")
+    ),
+    case("params: NaN friction", "params", "--params", "nan.toml", says=("a1 = nan N", "not finite")),
+    case("params: not TOML", "params", "--params", "garbage.toml", says=("garbage.toml", "not valid TOML")),
+    # one move
+    case(
+        "plan: x1 out of the stroke",
+        "plan",
+        "0.1",
+        "0.95",
+        says=("x1_m = 0.95 m", "outside the stroke [0, 0.8] m"),
+    ),
+    case("plan: x1 not a number", "plan", "0.1", "abc", says=("x1", "'abc' is not a number"), usage=True),
+    case("plan: x1 NaN", "plan", "0.1", "nan", says=("x1", "'nan' is not a finite number"), usage=True),
+    case(
+        "plan: omega > 1",
+        "plan",
+        "0.1",
+        "0.5",
+        "--case",
+        "min-time-energy",
+        "--omega",
+        "1.2",
+        says=("omega = 1.2", "outside [0, 1]"),
+    ),
+    case(
+        "plan: empty duration bounds",
+        "plan",
+        "0.1",
+        "0.5",
+        "--t-min",
+        "5",
+        "--t-max",
+        "1",
+        says=("t_min_s = 5.0 s > t_max_s = 1.0 s",),
+    ),
+    case(
+        "plan: negative mass",
+        "plan",
+        "0.1",
+        "0.5",
+        "--params",
+        "negative.toml",
+        says=("m = -3.0 kg", "> 0 kg"),
+    ),
+    # the experiment, the sweep
+    case(
+        "experiment: one way point",
+        "experiment",
+        "--offline",
+        "--out",
+        "exp",
+        "--waypoints",
+        "1",
+        says=("1 way points", "at least 2"),
+        untouched=("exp",),
+        usage=True,
+    ),
+    case(
+        "experiment: omega < 0",
+        "experiment",
+        "--offline",
+        "--out",
+        "exp",
+        "--omega",
+        "-0.5",
+        says=("omega = -0.5", "outside [0, 1]"),
+        untouched=("exp",),
+    ),
+    case(
+        "experiment: too many way points",
+        "experiment",
+        "--offline",
+        "--out",
+        "exp",
+        "--waypoints",
+        "200000",
+        says=("waypoints = 200000", "[2, 100000]"),
+        untouched=("exp",),
+    ),
+    case(
+        "experiment: --out under /proc",
+        "experiment",
+        "--offline",
+        "--out",
+        "/proc/x",
+        says=("output directory /proc/x cannot be created", "/proc is not writable"),
+        untouched=("/proc/x",),
+    ),
+    case(
+        "experiment: --out is a file",
+        "experiment",
+        "--offline",
+        "--out",
+        "notes.txt",
+        "--waypoints",
+        "3",
+        says=("notes.txt", "exists and is not a directory"),
+        untouched=("notes.txt",),
+    ),
+    case(
+        "pareto: omega > 1",
+        "pareto",
+        "--out",
+        "par",
+        "--omega",
+        "1.5",
+        says=("omega = 1.5", "outside [0, 1]"),
+        untouched=("par",),
+    ),
+    case(
+        "pareto: unknown law",
+        "pareto",
+        "--out",
+        "par",
+        "--law",
+        "poly9",
+        says=("--law", "'poly9'"),
+        untouched=("par",),
+        usage=True,
+    ),
+    # benchmarks
+    case(
+        "bench: zero moves",
+        "bench",
+        "planner",
+        "--moves",
+        "0",
+        says=("--moves", "0 must be >= 1"),
+        usage=True,
+    ),
+    case(
+        "bench: zero payloads",
+        "bench",
+        "faults",
+        "--payloads",
+        "0",
+        says=("--payloads", "0 must be >= 1"),
+        usage=True,
+    ),
+    # the bridge
+    case(
+        "bridge: impossible address",
+        "bridge",
+        "--sim",
+        "--connect",
+        "tcp/999.1.1.1:1",
+        says=("'tcp/999.1.1.1:1'", "'999.1.1.1'", "IPv4 parts 0…255"),
+    ),
+    case(
+        "bridge: port out of range",
+        "bridge",
+        "--sim",
+        "--listen",
+        "tcp/127.0.0.1:99999",
+        says=("'99999'", "not in 0…65535"),
+    ),
+    case("bridge: negative speed", "bridge", "--sim", "--speed", "-1", says=("speed = -1.0", "must be >= 0")),
+    case(
+        "bridge: zero duration",
+        "bridge",
+        "--sim",
+        "--duration",
+        "0",
+        says=("duration = 0.0 s", "must be > 0 s"),
+    ),
+    case(
+        "bridge: negative jump tolerance",
+        "bridge",
+        "--sim",
+        "--jump-tolerance",
+        "-1",
+        says=("jump tolerance = -1.0 m", ">= 0 m"),
+    ),
+    case(
+        "bridge: missing plant file",
+        "bridge",
+        "--sim",
+        "--plant",
+        "missing.toml",
+        says=("plant file missing.toml", "does not exist"),
+    ),
+    case(
+        "bridge: plant state is someone's file",
+        "bridge",
+        "--sim",
+        "--plant-state",
+        "notes.txt",
+        says=("notes.txt holds 6 bytes", "16 bytes"),
+        untouched=("notes.txt",),
+    ),
+    case("bridge: bad key prefix", "bridge", "--sim", "--prefix", "a/*", says=("key prefix 'a/*'", "'*'")),
+    case(
+        "bridge: invalid zenoh config",
+        "bridge",
+        "--sim",
+        "--zenoh-config",
+        "bad.json5",
+        says=("zenoh config file bad.json5 is invalid",),
+    ),
+    # the recorder
+    case(
+        "record: bad key expression",
+        "record",
+        "-o",
+        "rec.mcap",
+        "--keys",
+        "a/**/**",
+        says=("--keys 'a/**/**'", "not a valid Zenoh key expression"),
+        untouched=("rec.mcap",),
+    ),
+    case(
+        "record: not .mcap",
+        "record",
+        "-o",
+        "rec.txt",
+        says=("rec.txt", "must end in .mcap"),
+        untouched=("rec.txt",),
+    ),
+    case("record: missing folder", "record", "-o", "nowhere/rec.mcap", says=("nowhere", "does not exist")),
+    case(
+        "record: existing file",
+        "record",
+        "-o",
+        "existing.mcap",
+        "--duration",
+        "1",
+        says=("existing.mcap already exists", "--overwrite"),
+        untouched=("existing.mcap",),
+    ),
+    case(
+        "record: zero duration",
+        "record",
+        "-o",
+        "rec.mcap",
+        "--duration",
+        "0",
+        says=("duration = 0.0 s", "must be > 0 s"),
+        untouched=("rec.mcap",),
+    ),
+    case(
+        "record: zero split size",
+        "record",
+        "-o",
+        "rec.mcap",
+        "--split-size",
+        "0",
+        says=("'0'", "must be >= 1 byte"),
+        untouched=("rec.mcap",),
+        usage=True,
+    ),
+    case(
+        "record: negative flush interval",
+        "record",
+        "-o",
+        "rec.mcap",
+        "--flush-interval",
+        "-1",
+        says=("flush interval = -1.0 s", "must be > 0 s"),
+        untouched=("rec.mcap",),
+    ),
+    # excitation and identification
+    case(
+        "excite: too short",
+        "excite",
+        "--plan-only",
+        "--duration",
+        "1",
+        says=("duration = 1.0 s", "outside [5.0, 3600.0] s"),
+    ),
+    case(
+        "excite: torque margin > 1",
+        "excite",
+        "--plan-only",
+        "--torque-margin",
+        "1.5",
+        says=("1.5 of tau_max", "[0.1, 1.0]"),
+    ),
+    case(
+        "identify: missing log",
+        "identify",
+        "missing.mcap",
+        "--out",
+        "ident",
+        says=("missing.mcap",),
+        untouched=("ident",),
+    ),
+    case(
+        "identify: empty file",
+        "identify",
+        "empty.mcap",
+        "--out",
+        "ident",
+        says=("empty.mcap is not an MCAP file", "first 0 bytes"),
+        untouched=("ident",),
+    ),
+    case(
+        "identify: not MCAP",
+        "identify",
+        "notes.txt",
+        "--out",
+        "ident",
+        says=("notes.txt is not an MCAP file",),
+        untouched=("ident",),
+    ),
+    case(
+        "identify: wrong schema",
+        "identify",
+        "wrong-schema.mcap",
+        "--out",
+        "ident",
+        says=("'axisflow_msgs/msg/Move'", "not sensor_msgs/msg/JointState"),
+        untouched=("ident",),
+    ),
+    case(
+        "identify: NaN in the samples",
+        "identify",
+        "nan-samples.mcap",
+        "--out",
+        "ident",
+        says=("non-finite values", "more than 1%"),
+        untouched=("ident",),
+    ),
+    case(
+        "identify: truncated before any message",
+        "identify",
+        "truncated.mcap",
+        "--out",
+        "ident",
+        says=("truncated.mcap",),
+        untouched=("ident",),
+    ),
+    case(
+        "identify: holdout > 0.9",
+        "identify",
+        "still.mcap",
+        "--out",
+        "ident",
+        "--holdout",
+        "1.5",
+        says=("holdout = 1.5", "[0, 0.9)"),
+        untouched=("ident",),
+    ),
+    # the planner node, the quick stop
+    case(
+        "planner: missing way points",
+        "planner",
+        "--waypoints",
+        "missing.txt",
+        says=("way point file missing.txt does not exist",),
+    ),
+    case(
+        "planner: way point out of the stroke",
+        "planner",
+        "--waypoints",
+        "outside.txt",
+        says=("line 2", "0.9 m is outside the stroke [0, 0.8] m"),
+    ),
+    case(
+        "planner: way point not a number",
+        "planner",
+        "--waypoints",
+        "words.txt",
+        says=("line 2", "'abc' is not a number (in m)"),
+    ),
+    case(
+        "planner: too few way points", "planner", "--waypoints", "one.txt", says=("has 1 way points", "2 to")
+    ),
+    case(
+        "planner: omega > 1",
+        "planner",
+        "--random",
+        "5",
+        "--omega",
+        "2",
+        says=("--omega 2.0", "outside [0, 1]"),
+    ),
+    case(
+        "planner: negative lookahead",
+        "planner",
+        "--random",
+        "5",
+        "--lookahead-s",
+        "-1",
+        says=("lookahead = -1.0 s", "[0, 600] s"),
+    ),
+    case("stop: negative timeout", "stop", "--timeout", "-1", says=("--timeout -1 s", "must be > 0 s")),
+    # Table 2 from a recording, replay, recover
+    case(
+        "table2: no plan records",
+        "table2",
+        "still.mcap",
+        "--out",
+        "t2",
+        says=("still.mcap", "no plan records"),
+        untouched=("t2",),
+    ),
+    case(
+        "table2: not MCAP",
+        "table2",
+        "notes.txt",
+        "--out",
+        "t2",
+        says=("not an MCAP file",),
+        untouched=("t2",),
+    ),
+    case(
+        "replay: no complete message",
+        "replay",
+        "truncated.mcap",
+        "--no-wait",
+        *LOOPBACK,
+        says=("truncated.mcap", "no complete message"),
+    ),
+    case(
+        "replay: missing file",
+        "replay",
+        "missing.mcap",
+        "--no-wait",
+        *LOOPBACK,
+        says=("missing.mcap", "does not exist"),
+    ),
+    case(
+        "replay: negative speed",
+        "replay",
+        "still.mcap",
+        "--speed",
+        "-2",
+        "--no-wait",
+        *LOOPBACK,
+        says=("speed = -2.0", "must be >= 0"),
+    ),
+    case(
+        "replay: bad key expression",
+        "replay",
+        "still.mcap",
+        "--keys",
+        "a/**/**",
+        "--no-wait",
+        *LOOPBACK,
+        says=("--keys 'a/**/**'",),
+    ),
+    case(
+        "recover: no complete message",
+        "recover",
+        "truncated.mcap",
+        says=("truncated.mcap", "no complete message"),
+        untouched=("truncated.recovered.mcap",),
+    ),
+    case(
+        "recover: not MCAP",
+        "recover",
+        "notes.txt",
+        "-o",
+        "out.mcap",
+        says=("not an MCAP file",),
+        untouched=("out.mcap",),
+    ),
+    case(
+        "recover: existing output",
+        "recover",
+        "still.mcap",
+        "-o",
+        "existing.mcap",
+        says=("existing.mcap already exists", "--overwrite"),
+        untouched=("existing.mcap",),
+    ),
+    case(
+        "recover: output is the source",
+        "recover",
+        "still.mcap",
+        "-o",
+        "still.mcap",
+        says=("must differ from the source",),
+        untouched=("still.mcap",),
+    ),
+    # security, the router, the demo
+    case(
+        "security: zero days",
+        "security",
+        "init",
+        "sec",
+        "--days",
+        "0",
+        says=("--days", "0 must be >= 1"),
+        untouched=("sec",),
+        usage=True,
+    ),
+    case(
+        "security: unknown role",
+        "security",
+        "init",
+        "sec",
+        "--roles",
+        "pilot",
+        says=("role 'pilot'",),
+        untouched=("sec",),
+    ),
+    case(
+        "security: impossible host",
+        "security",
+        "init",
+        "sec",
+        "--host",
+        "999.1.1.1",
+        says=("'999.1.1.1'", "IPv4 parts 0…255"),
+        untouched=("sec",),
+    ),
+    case(
+        "security: port out of range",
+        "security",
+        "init",
+        "sec",
+        "--listen-port",
+        "70000",
+        says=("70000", "1…65535"),
+        untouched=("sec",),
+        usage=True,
+    ),
+    case("router: nothing to listen on", "router", says=("needs --zenoh-config FILE", "--listen EP")),
+    case("router: zero duration", "router", "--duration", "0", *LOOPBACK, says=("duration = 0.0 s", "> 0 s")),
+    case(
+        "demo: negative speed",
+        "demo",
+        "--out",
+        "dm",
+        "--speed",
+        "-1",
+        says=("--speed -1.0", ">= 0"),
+        untouched=("dm",),
+    ),
+    case(
+        "demo: session folder not empty",
+        "demo",
+        "--out",
+        "full",
+        says=("full", "not empty"),
+        untouched=("full",),
+    ),
+]
+
+
+def _recording(path: Path, *, schema: str = JOINT_STATE_TYPE, nan: bool = False, finish: bool = True) -> None:
+    """A 2 s recording of /axisflow/a0/state: the axis at rest (or NaN torques in every other sample)."""
+    writer = Ros2McapWriter(path)
+    channel = writer.channel_for("/axisflow/a0/state", schema)
+    for k in range(2000):
+        torque = math.nan if nan and k % 2 else 0.05
+        sample = AxisSample(T0_NS + k * 1_000_000, "a0", 0.4, 0.0, 12.0, 80.0, 0.0, torque)
+        writer.add(channel, T0_NS + k * 1_000_000, T0_NS + k * 1_000_000, k + 1, sample.encode())
+    if finish:
+        writer.finish()
+
+
+def _params_file(path: Path, **changes: object) -> None:
+    data = default_params().to_dict()
+    data.pop("M_eq")
+    data.update(changes)
+    path.write_text("".join(f"{k} = {v!r}\n".replace("'", '"') for k, v in data.items()))
+
+
+@pytest.fixture(scope="module")
+def inputs(tmp_path_factory) -> Path:
+    """The bad (and a few good) input files every case may name, in one folder."""
+    d = tmp_path_factory.mktemp("inputs")
+    _params_file(d / "unknown.toml", foo=1)
+    _params_file(d / "negative.toml", m=-3.0)
+    _params_file(d / "nan.toml", a1=math.nan)
+    (d / "garbage.toml").write_text("m = = 3\n[[[\n")
+    (d / "bad.json5").write_text("{ mode: 'peer',\n")
+    (d / "notes.txt").write_text("hello\n")
+    (d / "outside.txt").write_text("0.1\n0.9\n")
+    (d / "words.txt").write_text("0.1\nabc\n")
+    (d / "one.txt").write_text("0.1\n")
+    (d / "empty.mcap").write_bytes(b"")
+    (d / "full").mkdir()
+    (d / "full" / "keep.txt").write_text("a session\n")
+    _recording(d / "still.mcap")
+    _recording(d / "existing.mcap")
+    _recording(d / "wrong-schema.mcap", schema=MOVE_TYPE)
+    _recording(d / "nan-samples.mcap", nan=True)
+    (d / "truncated.mcap").write_bytes((d / "still.mcap").read_bytes()[:40])  # magic and header only
+    return d
+
+
+def _snapshot(folder: Path, names: tuple[str, ...]) -> dict[str, bytes | None]:
+    """The bytes of each file (a folder: its listing), None if absent."""
+    out: dict[str, bytes | None] = {}
+    for name in names:
+        p = folder / name
+        if p.is_dir():
+            out[name] = "\n".join(sorted(str(q.relative_to(p)) for q in p.rglob("*"))).encode()
+        else:
+            out[name] = p.read_bytes() if p.exists() else None
+    return out
+
+
+def _error_line(err: str, command: str, usage: bool) -> str:
+    """The one error line of stderr; the rest may only be argparse's usage block (``usage``)."""
+    lines = err.strip("\n").splitlines()
+    errors = [ln for ln in lines if ln.startswith(f"axisflow {command}") and ": error: " in ln]
+    assert len(errors) == 1, err
+    others = [ln for ln in lines if ln != errors[0]]
+    if usage:
+        assert (
+            others
+            and others[0].startswith("usage: axisflow ")
+            and all(ln.startswith(" ") for ln in others[1:])
+        ), err
+    else:
+        assert others == [], err
+    return errors[0]
+
+
+@pytest.mark.parametrize("bad", CASES, ids=[c.id for c in CASES])
+def test_a_bad_input_is_one_line_exit_2_and_nothing_written(bad, inputs, tmp_path, capfd, monkeypatch):
+    work = tmp_path / "work"
+    work.mkdir()
+    for p in inputs.iterdir():  # what a case must not touch is a copy of its own; the rest, links
+        if p.name in bad.untouched:
+            _copy(p, work / p.name)
+        else:
+            (work / p.name).symlink_to(p)
+    monkeypatch.chdir(work)
+    before = _snapshot(work, bad.untouched)
+    t0 = time.monotonic()
+    try:
+        code = main(list(bad.args))
+    except SystemExit as exc:  # argparse
+        code = exc.code
+    elapsed = time.monotonic() - t0
+    out, err = capfd.readouterr()
+    assert code == 2, err
+    assert "Traceback" not in err and out == ""
+    line = _error_line(err, bad.args[0], bad.usage)
+    for fragment in bad.says:
+        assert fragment in line, line
+    assert _snapshot(work, bad.untouched) == before
+    assert elapsed < 10.0  # refused at once, not after the work
+
+
+def _copy(src: Path, dst: Path) -> None:
+    import shutil
+
+    if src.is_dir():
+        shutil.copytree(src, dst)
+    else:
+        shutil.copy2(src, dst)
+
+
+def test_the_catalogue_covers_every_command_but_the_views():
+    from axisflow.cli import COMMAND_MODULES
+
+    commands = {m.removesuffix("_cmd") for m in COMMAND_MODULES} - {"view", "figures"}
+    assert commands <= {c.args[0] for c in CASES}
+    assert len(CASES) >= 30
+
+
+# ---- as real processes: the slips of the issue, and pipes --------------------------------------------
+
+
+def _run(*args: str, cwd: Path, timeout: float = 60.0) -> subprocess.CompletedProcess:
+    return subprocess.run([*CLI, *args], capture_output=True, text=True, timeout=timeout, cwd=cwd)
+
+
+@pytest.mark.slow
+def test_the_three_slips_of_the_issue_fail_at_once_as_processes(inputs, tmp_path):
+    # a bridge that cannot connect used to run deaf and exit 0
+    t0 = time.monotonic()
+    bridge = _run("bridge", "--sim", "--connect", "tcp/999.1.1.1:1", "--duration", "1", cwd=tmp_path)
+    assert bridge.returncode == 2 and bridge.stdout == "" and len(bridge.stderr.splitlines()) == 1, (
+        bridge.stderr
+    )
+    assert "'999.1.1.1' is neither an IP address" in bridge.stderr
+    # a replay of a file with no complete message used to report "replayed 0 messages", exit 0
+    replay = _run("replay", str(inputs / "truncated.mcap"), "--no-wait", *LOOPBACK, cwd=tmp_path)
+    assert replay.returncode == 2 and replay.stdout == "" and len(replay.stderr.splitlines()) == 1, (
+        replay.stderr
+    )
+    assert "holds no complete message to replay" in replay.stderr
+    # an experiment into /proc/x used to plan for ~20 s before failing
+    t0 = time.monotonic()
+    exp = _run("experiment", "--offline", "--out", "/proc/x", cwd=tmp_path)
+    assert exp.returncode == 2 and exp.stdout == "" and len(exp.stderr.splitlines()) == 1, exp.stderr
+    assert "output directory /proc/x cannot be created: /proc is not writable" in exp.stderr
+    assert time.monotonic() - t0 < 10.0  # the 100-way-point experiment takes ~20 s: it did not run
+    assert not Path("/proc/x").exists()
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("params",),
+        ("plan", "0.1", "0.5", "--json"),
+        ("--help",),
+        ("excite", "--plan-only"),
+        ("experiment", "--offline", "--out", "exp", "--waypoints", "3", "--solver", "exact"),
+    ],
+    ids=["params", "plan", "help", "excite", "experiment"],
+)
+def test_a_reader_that_goes_away_is_not_an_error(args, tmp_path):
+    """``axisflow … | head -1``: the reader closes the pipe; here before the first write, so the command
+    always meets the broken pipe (with head it may not, for output smaller than the pipe's buffer)."""
+    proc = subprocess.Popen(
+        [*CLI, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path
+    )
+    proc.stdout.close()
+    err = proc.stderr.read()
+    proc.stderr.close()
+    assert proc.wait(60) == 0, err
+    assert err == ""
+
+
+def test_head_gets_the_first_line(tmp_path):
+    done = subprocess.run(
+        f"{sys.executable} -m axisflow params | head -1",
+        shell=True,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert done.stdout.split()[:3] == ["m", "=", "90"] and done.stderr == ""

@@ -1,0 +1,26 @@
+"""Fault 5: thousands of valid moves from one sender, twice."""
+
+import pytest
+from axisflow.benchmarks.faults import MAX_FLOOD_RSS_GROWTH_MB, move_flood
+
+
+@pytest.mark.slow
+def test_a_flood_of_valid_moves_fills_the_queue_to_its_bound_and_no_further(tmp_path):
+    r = move_flood(tmp_path, moves=2000)
+    first, second = r.per_sender
+    # the bound holds (the running move counts): the rest are refused, each saying why
+    assert first["accepted"] == r.limit == 1024
+    assert second["accepted"] == r.limit - 1  # the first sender's running move is still there
+    for s in r.per_sender:
+        assert s["rejected"] == s["queue_full"] == s["sent"] - s["accepted"]
+    assert r.max_queued == r.limit
+    # closing a sender drops its moves that had not started: all but the running one
+    assert first["dropped"] == second["dropped"] == r.limit - 1
+    report = r.end.report
+    assert (report["moves_accepted"], report["moves_rejected"], report["moves_missed"]) == (2047, 1953, 0)
+    # memory flat: a second flood leaves no more behind than the first
+    assert abs(r.rss_growth_mb) <= MAX_FLOOD_RSS_GROWTH_MB, r.rss_mb
+    # telemetry unaffected: every state and setpoint sample recorded, 1 ms apart, no gap
+    assert r.end.telemetry_intact
+    for name, stalls in r.stalls.items():  # a coarse net on a shared machine (see test_bad_payloads.py)
+        assert stalls.late <= 0.2 * stalls.ticks and stalls.max_ms < 50.0, (name, stalls)
