@@ -65,6 +65,8 @@ STATUSES_PER_TICK = 8
 """move statuses published per tick, after the tick's setpoint; more wait in order for the next ticks
 (a sender that vanishes, or a quick stop, can drop a whole queue of 1024 moves at once: their statuses
 go out over ~130 ms instead of stalling one tick by ~20 ms). Each carries the tick it happened at."""
+MAX_REPORTED_REJECTIONS = 100
+"""rejection texts kept in the report (the first ones; all are counted and each has its status)"""
 _SLEEP_MARGIN_NS = 80_000  # wake this early and spin the rest: time.sleep overshoots ~50–100 µs
 
 
@@ -148,6 +150,31 @@ class BridgeReport:
         }
 
 
+class _RateLimitedLog:
+    """At most ``per_second`` log lines a second, then one line saying how many were left out: a flood
+    of bad moves must not make the loop write thousands of lines (a stderr pipe nobody reads would
+    block it once full)."""
+
+    def __init__(self, logger: logging.Logger, per_second: int) -> None:
+        self._log, self._per_second = logger, per_second
+        self._window = -1
+        self._count = self._skipped = 0
+
+    def warning(self, text: str) -> None:
+        window = int(time.monotonic())
+        if window != self._window:
+            if self._skipped:
+                self._log.warning(
+                    "… and %d more rejections in that second (each has its move status)", self._skipped
+                )
+            self._window, self._count, self._skipped = window, 0, 0
+        self._count += 1
+        if self._count <= self._per_second:
+            self._log.warning("%s", text)
+        else:
+            self._skipped += 1
+
+
 class Bridge:
     """The bridge of one axis (a context manager: entering declares everything on the session and
     reads the first sample; leaving rejects the moves still waiting and undeclares)."""
@@ -167,6 +194,7 @@ class Bridge:
         self._alive: set[bytes] = set()
         self._gone: set[bytes] = set()
         self._pending: deque[tuple[ReceivedMove, float]] = deque()
+        self._reject_log = _RateLimitedLog(log, per_second=10)
         self._outbox: deque[MoveStatus] = deque()
         """statuses not published yet (at most STATUSES_PER_TICK go out per tick)"""
         self._queue: MoveQueue | None = None
@@ -372,8 +400,9 @@ class Bridge:
         move_id = received.command.move_id if received.command is not None else 0
         text = reason if reason.startswith(f"move {move_id}") else f"move {move_id}: {reason}"
         self.report.moves_rejected += 1
-        self.report.rejections.append(text)
-        log.warning("rejected %s", text)
+        if len(self.report.rejections) < MAX_REPORTED_REJECTIONS:
+            self.report.rejections.append(text)
+        self._reject_log.warning(f"rejected {text}")
         self._publish(MoveStatus(self._stamp(), self.keys.axis, MoveState.REJECTED, move_id, self.tick,
                                  NO_TICK, NO_TICK, received.sender.hex(), f"rejected {text}"))  # fmt: skip
 

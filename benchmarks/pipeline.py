@@ -46,9 +46,23 @@ while)"""
 _STAMP = struct.Struct("<iI")
 
 
+def _axis_counts(text: str) -> list[int]:
+    """argparse type: comma-separated axis counts, each ≥ 1."""
+    try:
+        counts = [int(a) for a in text.split(",") if a.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a comma-separated list of axis counts") from None
+    if not counts or min(counts) < 1:
+        raise argparse.ArgumentTypeError(f"axis counts {text!r} must be whole numbers >= 1")
+    return counts
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
-        "--axes", default=DEFAULT_AXES, help=f"axis counts to try, ascending (default {DEFAULT_AXES})"
+        "--axes",
+        type=_axis_counts,
+        default=DEFAULT_AXES,
+        help=f"axis counts to try, ascending (default {DEFAULT_AXES})",
     )
     parser.add_argument("--seconds", type=float, default=3.0, help="run time per axis count [s] (default 3)")
     parser.add_argument(
@@ -257,7 +271,7 @@ def _baseline_writer(n: int, tmp: Path) -> float:
 
 
 def run(args: argparse.Namespace) -> int:
-    axes_list = [int(a) for a in str(args.axes).split(",") if a.strip()]
+    axes_list = list(args.axes)
     result: dict[str, object] = {"seconds_per_step": args.seconds}
     with tempfile.TemporaryDirectory(prefix="axisflow-bench-") as tmpdir:
         tmp = Path(tmpdir)

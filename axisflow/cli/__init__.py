@@ -13,6 +13,7 @@ import logging
 import os
 import sys
 from collections.abc import Sequence
+from typing import NoReturn
 
 from .. import __version__
 from ..model import AxisflowError
@@ -43,8 +44,15 @@ COMMAND_MODULES: tuple[str, ...] = (
 EXIT_USER_ERROR = 2
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse's parser, with its errors as one line like every other user error (no usage block)."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(EXIT_USER_ERROR, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="axisflow",
         description="Fast, energy-aware point-to-point motion for a belt-driven linear axis.",
     )

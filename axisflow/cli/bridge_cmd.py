@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import gc
 import json
 
 from ..acquisition.bridge import BridgeConfig, run_bridge
@@ -76,6 +77,9 @@ def run(args: argparse.Namespace) -> int:
     # its clock starts at the first sample
     drive = SimulatedAxis(plant, params, axis=args.axis, state_path=args.plant_state)
     with stop_on_signals() as stop, open_session(options) as session:
+        # what is allocated by now lives as long as the process: out of the collector's way, so a full
+        # collection on the 1 kHz loop costs ~0 ms instead of 40–55 ms (measured)
+        gc.freeze()
         try:
             report = run_bridge(session, drive, params, config, stop)
         finally:
