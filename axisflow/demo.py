@@ -160,8 +160,10 @@ def run_demo(
             from .identification.refit import IdentifySettings  # CasADi: loaded when the demo fits
             from .identify import identify_to
 
+            # the excitation's moves only: a recorder that joins a bridge running at full speed may
+            # miss a few samples in its first tenth of a second (a Zenoh route being set up)
             _ident, refit_report = identify_to(
-                out / "refit", [out / "excitation.mcap"], nominal, IdentifySettings()
+                out / "refit", [out / "excitation.mcap"], nominal, IdentifySettings(window=done.window())
             )
             report.refit = refit_report
             refit = load_params(out / "refit" / "params.toml")

@@ -21,6 +21,7 @@ from .acquisition import AxisKeys, MoveCommand, MoveRejectedError, MoveState, Mo
 from .acquisition.axis_state import AxisState
 from .acquisition.move_sender import MoveSender
 from .identification.excitation import ExcitationPlan
+from .identification.signals import TimeWindow
 from .model import AxisflowError, AxisParams, polynomial_law
 from .planner import Case, MoveProblem, solve_exact
 
@@ -55,6 +56,16 @@ class ExcitationReport:
             "first_tick": self.statuses[0].start_tick if self.statuses else None,
             "last_tick": self.statuses[-1].end_tick if self.statuses else None,
         }
+
+    def window(self, margin_s: float = 0.2) -> TimeWindow:
+        """The drive time of the run's moves, ``margin_s`` wider on each side: the part of a recording
+        to refit from (a recorder that joined a running bridge may miss samples before it)."""
+        if not self.statuses:
+            return TimeWindow()
+        first, last = self.statuses[0], self.statuses[-1]
+        origin = first.stamp_of(first.start_tick)
+        end_s = (last.stamp_of(last.end_tick) - origin) * 1e-9
+        return TimeWindow(-margin_s, end_s + margin_s, origin)
 
     def format(self) -> str:
         return (

@@ -27,7 +27,7 @@ from ..model import AxisParams
 from .alignment import estimate_delay
 from .fit import PARAMETERS, FitResult, FrictionFit, FrictionValues, check_fit_names
 from .preparation import PreparationSettings, PreparedLog, fit_indices, fit_samples, prepare
-from .signals import IdentificationError, JointKind, joint_kind, load_joint
+from .signals import IdentificationError, JointKind, TimeWindow, joint_kind, load_joint
 from .uncertainty import Uncertainty, estimate_uncertainty
 
 DEFAULT_TOPIC = "/axisflow/a0/state"
@@ -46,6 +46,8 @@ class IdentifySettings:
     """the torque/position offset [s]; None: estimated"""
     holdout: float = 0.0
     """the last fraction of each log kept for validation (0: none)"""
+    window: TimeWindow = field(default_factory=TimeWindow)
+    """the part of each fitted log to use (default: all of it; validation logs are used whole)"""
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "fit", check_fit_names(tuple(self.fit)))
@@ -146,7 +148,7 @@ def identify(
         raise IdentificationError("give either validation logs or a holdout fraction, not both")
     t0 = time.perf_counter()
     kind = joint_kind(s.joint, s.joint_kind)
-    signals = [load_joint(p, s.topic, s.joint, nominal, kind.value) for p in paths]
+    signals = [load_joint(p, s.topic, s.joint, nominal, kind.value, s.window) for p in paths]
     held = [load_joint(p, s.topic, s.joint, nominal, kind.value) for p in validate]
     t_read = time.perf_counter()
     limit = nominal.tau_max if kind is JointKind.MOTOR else nominal.f_max

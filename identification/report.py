@@ -5,7 +5,8 @@ report.json keys: ``parameters`` {name: {value, std, initial, unit}}, ``correlat
 parameters' error on the same samples) each {rms_nm, max_abs_nm, nrmse_pct, samples,
 rms_unfiltered_nm} — ``_n`` instead of ``_nm`` for a carriage joint —, ``solver`` {method, status,
 iterations, time_s}, ``timing_s`` {read, prepare, solve, total}, ``log`` {paths, topic, joint,
-joint_kind, samples, duration_s, truncated, stamp_jitter_s}, ``samples`` {total, used, stationary,
+joint_kind, samples, duration_s, truncated, stamp_jitter_s, window (null: whole logs, else {start_s,
+end_s, origin_ns})}, ``samples`` {total, used, stationary,
 saturated, trimmed, non_finite}, ``uncertainty`` {method, samples, effective_samples, flagged},
 ``torque_delay_s`` {value, estimated}, ``preparation`` (the filter and exclusion settings),
 ``warnings``.
@@ -66,6 +67,7 @@ def report_json(ident: Identification) -> dict[str, Any]:
                 "duration_s": math.fsum(log.signals.duration_s for log in logs),
                 "truncated": [log.signals.truncated for log in logs],
                 "stamp_jitter_s": max(log.signals.stamp_jitter_s for log in logs),
+                "window": None if ident.settings.window.whole else dataclasses.asdict(ident.settings.window),
             },
             "samples": {
                 "total": sum(len(log.signals.t_s) for log in logs),
@@ -99,7 +101,7 @@ def report_markdown(report: dict[str, Any]) -> str:
         "# Friction refit",
         "",
         f"Log: {', '.join(log['paths'])}, topic `{log['topic']}`, joint `{log['joint']}` "
-        f"({log['samples']} samples, {log['duration_s']:.1f} s).",
+        f"({log['samples']} samples, {log['duration_s']:.1f} s{_window_text(log.get('window'))}).",
         "",
         "| parameter | refit | σ | nominal | change |",
         "|---|---:|---:|---:|---:|",
@@ -166,3 +168,12 @@ def params_file(ident: Identification) -> str:
         "# A refit M_eq is written as the cart mass m (rotor, gearbox and pulley inertias stay nominal).\n"
     )
     return head + params_to_toml(ident.params)
+
+
+def _window_text(window: dict[str, Any] | None) -> str:
+    if not window:
+        return ""
+    start = "the start" if window["start_s"] is None else f"{window['start_s']:g} s"
+    end = "the end" if window["end_s"] is None else f"{window['end_s']:g} s"
+    origin = "each log's first sample" if window["origin_ns"] is None else f"stamp {window['origin_ns']} ns"
+    return f" from {start} to {end} after {origin}"

@@ -13,6 +13,10 @@ Checks, each a one-line :class:`IdentificationError`: the time stamps must incre
 non-finite values are dropped and counted (an error above :data:`MAX_NONFINITE_FRACTION`); the record
 must be long enough and the axis must move.
 
+Window. A :class:`TimeWindow` keeps the samples of each log between two times (seconds from an origin:
+the log's first sample unless given) and checks only those: a log with a gap or a stretch of no
+interest is fitted from the part that matters (``axisflow identify --start S --end S``).
+
 Time base: a drive samples on its own clock, at a fixed period; the stamps a log carries may jitter
 around that (a stamp taken when a message was handled, a clock rounded to 256 ns by a float). The
 derivatives the fit needs amplify any such jitter (1 µs of stamp noise at 1 kHz is 0.1 % of a step,
@@ -42,6 +46,51 @@ MIN_MOTION_M_S = 1e-3
 
 class IdentificationError(AxisflowError, ValueError):
     """A log or a setting cannot be used for identification (the message names what and why)."""
+
+
+@dataclass(frozen=True)
+class TimeWindow:
+    """The samples of a log from ``start_s`` to ``end_s`` (inclusive), in seconds from ``origin_ns``
+    (a stamp [ns]; None: each log's first sample). None for a bound: the log's own start or end."""
+
+    start_s: float | None = None
+    end_s: float | None = None
+    origin_ns: int | None = None
+
+    def __post_init__(self) -> None:
+        for name, value in (("start", self.start_s), ("end", self.end_s)):
+            if value is not None and not np.isfinite(value):
+                raise IdentificationError(f"window {name} = {value} s must be a finite time")
+        if self.start_s is not None and self.end_s is not None and not self.end_s > self.start_s:
+            raise IdentificationError(
+                f"window end = {self.end_s:g} s must be after its start = {self.start_s:g} s"
+            )
+
+    @property
+    def whole(self) -> bool:
+        return self.start_s is None and self.end_s is None
+
+    def mask(self, source: str, stamps: np.ndarray) -> np.ndarray:
+        """Which of ``stamps`` [ns] lie in the window; an error naming the log's span if none do."""
+        origin = int(stamps[0]) if self.origin_ns is None else self.origin_ns
+        t = (stamps - origin) * 1e-9
+        keep = np.ones(stamps.size, dtype=bool)
+        if self.start_s is not None:
+            keep &= t >= self.start_s
+        if self.end_s is not None:
+            keep &= t <= self.end_s
+        if not keep.any():
+            raise IdentificationError(
+                f"{source}: no sample in the window {self.describe()}: the log spans "
+                f"{t[0]:.3f} s to {t[-1]:.3f} s"
+            )
+        return keep
+
+    def describe(self) -> str:
+        start = "its start" if self.start_s is None else f"{self.start_s:g} s"
+        end = "its end" if self.end_s is None else f"{self.end_s:g} s"
+        origin = "the first sample" if self.origin_ns is None else f"stamp {self.origin_ns} ns"
+        return f"from {start} to {end} after {origin}"
 
 
 class JointKind(StrEnum):
@@ -114,18 +163,31 @@ class JointSignals:
 
 
 def load_joint(
-    path: str | Path, topic: str, joint: str, params: AxisParams, kind: str | None = None
+    path: str | Path,
+    topic: str,
+    joint: str,
+    params: AxisParams,
+    kind: str | None = None,
+    window: TimeWindow | None = None,
 ) -> JointSignals:
-    """The joint ``joint`` of ``topic`` in the log at ``path``, checked (see the module docstring)."""
+    """The joint ``joint`` of ``topic`` in the log at ``path`` (within ``window``: default the whole
+    log), checked (see the module docstring)."""
     columns = read_joint_states(path, topic)
     data = columns.joint(joint)
     jk = joint_kind(joint, kind)
     scale = params.r / params.i_r if jk is JointKind.MOTOR else 1.0
     stamps = data.stamp_ns
-    _check_stamps(str(path), stamps)
     q = np.asarray(data.position, dtype=float)
     qd = np.asarray(data.velocity, dtype=float)
     effort = np.asarray(data.effort, dtype=float)
+    origin_ns, first = (int(stamps[0]) if stamps.size else 0), 0
+    if window is not None and not window.whole and stamps.size:
+        keep = window.mask(str(path), stamps)
+        first = int(np.argmax(keep))  # the window is one stretch: its first sample's index
+        if window.origin_ns is not None:
+            origin_ns = window.origin_ns
+        stamps, q, qd, effort = stamps[keep], q[keep], qd[keep], effort[keep]
+    _check_stamps(str(path), stamps, origin_ns, first)
     finite = np.isfinite(q) & np.isfinite(qd) & np.isfinite(effort)
     n_bad = int(np.count_nonzero(~finite))
     if n_bad > MAX_NONFINITE_FRACTION * finite.size:
@@ -160,26 +222,29 @@ def load_joint(
     return signals
 
 
-def _check_stamps(source: str, stamps: np.ndarray) -> None:
+def _check_stamps(source: str, stamps: np.ndarray, origin_ns: int, first: int) -> None:
+    """Increasing stamps at a steady step; errors name samples by their index in the whole log
+    (``first``: the index of ``stamps[0]``) and times in seconds from ``origin_ns``."""
     if stamps.size < 3:
         raise IdentificationError(f"{source}: {stamps.size} samples are too few to identify anything")
     steps = np.diff(stamps)
     back = np.flatnonzero(steps <= 0)
-    t = (stamps - stamps[0]) * 1e-9
+    t = (stamps - origin_ns) * 1e-9
     if back.size:
         k = int(back[0]) + 1
         raise IdentificationError(
-            f"{source}: time stamps do not increase: sample {k} at {t[k]:.6f} s is "
-            f"{-steps[k - 1] * 1e-9:.6f} s before sample {k - 1} ({back.size} such steps in all)"
+            f"{source}: time stamps do not increase: sample {first + k} at {t[k]:.6f} s is "
+            f"{-steps[k - 1] * 1e-9:.6f} s before sample {first + k - 1} ({back.size} such steps in all)"
         )
     median = float(np.median(steps))
     off = np.flatnonzero(np.abs(steps - median) > GAP_TOLERANCE * median)
     if off.size:
         k = int(off[0])
         raise IdentificationError(
-            f"{source}: a gap in the time stamps: {steps[k] * 1e-6:.3f} ms between samples {k} and {k + 1} "
-            f"(at {t[k]:.6f} s), the log's step is {median * 1e-6:.3f} ms ({off.size} such steps in all); "
-            "identify needs an unbroken record: cut the log before or after it"
+            f"{source}: a gap in the time stamps: {steps[k] * 1e-6:.3f} ms between samples {first + k} and "
+            f"{first + k + 1} (at {t[k]:.6f} s), the log's step is {median * 1e-6:.3f} ms ({off.size} such "
+            "steps in all); "
+            "identify needs an unbroken record: fit the part before or after it (--start/--end)"
         )
 
 

@@ -11,6 +11,7 @@ from ..identification.fit import PARAMETERS
 from ..identification.preparation import PreparationSettings
 from ..identification.refit import DEFAULT_JOINT, DEFAULT_TOPIC, IdentifySettings
 from ..identification.report import report_markdown
+from ..identification.signals import TimeWindow
 from ..identify import identify_to
 
 
@@ -64,6 +65,20 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="torque/position time offset [s] (default: estimated from the logs)",
     )
     p.add_argument(
+        "--start",
+        type=finite_float,
+        default=None,
+        metavar="S",
+        help="fit each log from S seconds after its first sample (default: its start)",
+    )
+    p.add_argument(
+        "--end",
+        type=finite_float,
+        default=None,
+        metavar="S",
+        help="fit each log up to S seconds after its first sample (default: its end)",
+    )
+    p.add_argument(
         "--cutoff",
         type=finite_float,
         default=PreparationSettings.cutoff_hz,
@@ -77,7 +92,6 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     nominal = params_from_args(args)
-    out = check_output_dir(args.out)  # a bad --out fails before the work, not after it
     settings = IdentifySettings(
         topic=args.topic,
         joint=args.joint,
@@ -86,7 +100,9 @@ def run(args: argparse.Namespace) -> int:
         preparation=PreparationSettings(cutoff_hz=args.cutoff),
         torque_delay_s=args.torque_delay,
         holdout=args.holdout,
+        window=TimeWindow(args.start, args.end),
     )
+    out = check_output_dir(args.out)  # a bad --out fails before the work, not after it
     _ident, report = identify_to(out, args.logs, nominal, settings, validate=args.validate)
     if args.json:
         print(json.dumps(report, indent=1))

@@ -1,5 +1,6 @@
 """Logs identify cannot use: one clear line, exit 2, nothing written (table-driven)."""
 
+import json
 import re
 import subprocess
 import sys
@@ -67,6 +68,21 @@ CASES = {  # how to spoil the log, the command's arguments, what the error says
         r"--fit a1,a9: unknown a9; choose from M_eq, a1, a2",
     ),
     "bad-holdout": (None, [*FOREIGN, "--holdout", "1.5"], r"holdout = 1.5 must be a fraction in \[0, 0.9\)"),
+    "gap-inside-the-window": (  # samples named in the whole log, times from its first sample
+        _gap,
+        [*FOREIGN, "--start", "2", "--end", "8"],
+        r"13.000 ms between samples 4999 and 5000 \(at 4.999000 s\)",
+    ),
+    "empty-window": (
+        None,
+        [*FOREIGN, "--start", "30"],
+        r"no sample in the window from 30 s to its end after the first sample: the log spans 0.000 s to 19",
+    ),
+    "reversed-window": (
+        None,
+        [*FOREIGN, "--start", "5", "--end", "2"],
+        r"window end = 2 s must be after its start = 5 s",
+    ),
 }
 
 
@@ -95,6 +111,27 @@ def test_a_few_nan_samples_are_dropped_and_counted(tmp_path):
     report = report_json(identify([log], NOMINAL, settings))
     assert 40 < report["samples"]["non_finite"] < 80
     assert report["parameters"]["a1"]["value"] == pytest.approx(PLANT.a1, rel=0.02)
+
+
+def test_a_gap_is_fitted_around_with_a_window(tmp_path):
+    from .conftest import PLANT
+
+    reports = []
+    for name, edit in (("whole", None), ("gapped", _gap)):  # the gap is in the first 5.1 s
+        log = write_foreign_log(tmp_path / f"{name}.mcap", 30.0, edit=edit)
+        out = tmp_path / f"refit-{name}"
+        args = [*CLI, str(log), *FOREIGN, "--start", "5.1", "--json", "--out", str(out)]
+        proc = subprocess.run(args, capture_output=True, text=True, timeout=120)
+        assert proc.returncode == 0, proc.stderr
+        reports.append(json.loads(proc.stdout))
+    whole, gapped = reports
+    assert gapped["log"]["window"] == {"start_s": 5.1, "end_s": None, "origin_ns": None}
+    assert gapped["log"]["duration_s"] == pytest.approx(29.999 - 5.1, abs=1e-6)  # the last sample at 29.999 s
+    assert "from 5.1 s to the end after each log's first sample" in (out / "report.md").read_text()
+    for name, p in gapped["parameters"].items():  # what was cut away makes no difference
+        assert p["value"] == pytest.approx(whole["parameters"][name]["value"], rel=1e-9), name
+    a1 = gapped["parameters"]["a1"]
+    assert abs(a1["value"] - PLANT.a1) < 3 * a1["std"]
 
 
 @pytest.mark.parametrize(

@@ -85,6 +85,8 @@ def test_the_demo_closes_the_loop(cli, tmp_path):
                "figures/fig4a.png", "figures/fig4b.png", "figures/fig5a.png")  # fmt: skip
     for name in written:
         assert (out / name).is_file(), name
+    window = json.loads((out / "refit" / "report.json").read_text())["log"]["window"]
+    assert window["start_s"] == -0.2 and window["end_s"] > 100.0  # the excitation's moves, ~133 s
     from rerun.chunk import RrdReader
 
     paths = {str(c.entity_path) for c in RrdReader(str(out / "session.rrd")).store().stream()}
