@@ -13,6 +13,11 @@ first way point is left out):
 * t_opt: mean ± std of the solve times; idle ticks between consecutive moves, counted from the
   recorded setpoints: samples stamped from the end tick of a move up to the start tick of the next
   (0 when the next starts on the tick the previous ends).
+
+Samples lost by the recording are counted, never integrated over: a move missing any of its state
+samples has no E_exp and is left out of the row's E_exp and E% (with its E_th), and a run whose
+setpoint samples are incomplete between its first and last tick is flagged (its idle ticks are those
+recorded). The table names both below it.
 """
 
 from __future__ import annotations
@@ -47,6 +52,9 @@ class RecordedMove:
     accepted: MoveStatus | None = None
     completed: MoveStatus | None = None
     energy_measured_j: float = math.nan
+    """NaN unless completed and every one of its state samples was recorded"""
+    samples_missing: int = 0
+    """state samples missing from the recording within the move's ticks"""
 
 
 @dataclass
@@ -60,10 +68,21 @@ class RecordedRow:
     omega: float
     moves: list[RecordedMove] = field(default_factory=list)
     idle_ticks: list[int] = field(default_factory=list)
+    setpoint_samples_missing: int = 0
+    """setpoint samples missing from the recording between the run's first and last tick"""
 
     @property
     def completed(self) -> list[RecordedMove]:
         return [m for m in self.moves if m.completed is not None]
+
+    @property
+    def measured(self) -> list[RecordedMove]:
+        """the completed moves whose every state sample was recorded: E_exp and E% are over these"""
+        return [m for m in self.completed if math.isfinite(m.energy_measured_j)]
+
+    @property
+    def state_samples_missing(self) -> int:
+        return sum(m.samples_missing for m in self.moves)
 
     @property
     def total_time_s(self) -> float:
@@ -75,11 +94,11 @@ class RecordedRow:
 
     @property
     def energy_measured_j(self) -> float:
-        return math.fsum(m.energy_measured_j for m in self.completed)
+        return math.fsum(m.energy_measured_j for m in self.measured)
 
     @property
     def energy_error_pct(self) -> float:
-        e_th = math.fsum(m.plan.energy_j for m in self.completed)
+        e_th = math.fsum(m.plan.energy_j for m in self.measured)
         return (e_th - self.energy_measured_j) / e_th * 100.0 if e_th else math.nan
 
     @property
@@ -98,7 +117,7 @@ class RecordedRow:
             "total_time_s": self.total_time_s,
             "energy_model_j": self.energy_model_j,
             "energy_measured_j": self.energy_measured_j,
-            "energy_error_pct": self.energy_error_pct,
+            "energy_error_pct": _finite_or_none(self.energy_error_pct),
             "t_opt_ms_mean": float(t.mean()) if t.size else math.nan,
             "t_opt_ms_std": float(t.std(ddof=1)) if t.size > 1 else 0.0,
             "max_violation": max((m.plan.max_violation for m in self.moves), default=0.0),
@@ -106,8 +125,16 @@ class RecordedRow:
             "label": self.label,
             "moves": len(self.moves),
             "moves_completed": len(self.completed),
-            "energy_measured_per_move_j": [m.energy_measured_j for m in self.moves],
+            "moves_measured": len(self.measured),
+            "state_samples_missing": self.state_samples_missing,
+            "setpoint_samples_missing": self.setpoint_samples_missing,
+            "energy_measured_per_move_j": [_finite_or_none(m.energy_measured_j) for m in self.moves],
         }
+
+
+def _finite_or_none(value: float) -> float | None:
+    """JSON has no NaN: an unknown figure is null"""
+    return value if math.isfinite(value) else None
 
 
 @dataclass
@@ -154,6 +181,7 @@ def table_from_recording(
     for row in rows:
         _measure(row, state, accounting)
         row.idle_ticks = _idle_ticks(row, setpoint)
+        row.setpoint_samples_missing = _setpoints_missing(row, setpoint)
     return RecordedTable(Path(path), accounting, rows)
 
 
@@ -185,7 +213,9 @@ def _measure(row: RecordedRow, state: JointStateColumns, accounting: EnergyAccou
             continue
         lo = np.searchsorted(stamps, acc.stamp_of(acc.start_tick), "left")
         hi = np.searchsorted(stamps, acc.stamp_of(acc.end_tick), "right")
-        move.energy_measured_j = trace_energy(speed[lo:hi], torque[lo:hi], EXECUTION_PERIOD_S, accounting)
+        move.samples_missing = (acc.end_tick - acc.start_tick + 1) - int(hi - lo)
+        if move.samples_missing == 0:
+            move.energy_measured_j = trace_energy(speed[lo:hi], torque[lo:hi], EXECUTION_PERIOD_S, accounting)
 
 
 def _idle_ticks(row: RecordedRow, setpoint: JointStateColumns) -> list[int]:
@@ -199,6 +229,19 @@ def _idle_ticks(row: RecordedRow, setpoint: JointStateColumns) -> list[int]:
         start = b.accepted.stamp_of(b.accepted.start_tick)
         idle.append(int(np.searchsorted(stamps, start, "left") - np.searchsorted(stamps, end, "left")))
     return idle
+
+
+def _setpoints_missing(row: RecordedRow, setpoint: JointStateColumns) -> int:
+    """Setpoint ticks from the run's first start to its last end with no recorded sample."""
+    spans = [(m.accepted.start_tick, m.accepted.end_tick, m.accepted) for m in row.moves if m.accepted]
+    if not spans:
+        return 0
+    first = min(spans, key=lambda s: s[0])
+    last = max(spans, key=lambda s: s[1])
+    lo, hi = first[2].stamp_of(first[0]), last[2].stamp_of(last[1])
+    stamps = np.unique(setpoint.stamp_ns)
+    found = int(np.searchsorted(stamps, hi, "right") - np.searchsorted(stamps, lo, "left"))
+    return (last[1] - first[0] + 1) - found
 
 
 def table_markdown(table: RecordedTable, title: str = "") -> str:
@@ -235,4 +278,14 @@ def table_markdown(table: RecordedTable, title: str = "") -> str:
         "t_opt: solve time per move, mean ± std; idle ticks: setpoint samples between consecutive moves. "
         f"The paper's figures are shown for runs of {PAPER_WAYPOINTS} way points.",
     ]
+    for row in table.rows:
+        left_out = len(row.completed) - len(row.measured)
+        if left_out or row.setpoint_samples_missing:
+            lines += [
+                "",
+                f"**Samples lost by the recording** in {row.case} {row.law}: "
+                f"{row.state_samples_missing} state samples within {left_out} moves (left out of E_exp and "
+                "E%, with their E_th), "
+                f"{row.setpoint_samples_missing} setpoint samples (idle ticks counted from those recorded).",
+            ]
     return "\n".join(lines) + "\n"

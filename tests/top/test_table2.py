@@ -26,9 +26,10 @@ MOVES = [(400, 10.0, 50.0, 1.0), (600, 12.0, 40.0, 2.0), (500, 8.0, 30.0, 1.5)]
 GAP = 7  # idle ticks between move 2 and move 3
 
 
-def _write(path, accounting="positive"):
+def _write(path, accounting="positive", lost=()):
     """Moves back to back except a gap before the third; over each move ω(t) = W·sin(πt/T) and
-    τ(t) = Q·cos(πt/T): power W·Q/2·sin(2πt/T), signed energy 0, positive energy W·Q·T/(2π)."""
+    τ(t) = Q·cos(πt/T): power W·Q/2·sin(2πt/T), signed energy 0, positive energy W·Q·T/(2π). The
+    samples of the ticks ``lost`` are not written (a recorder that missed them)."""
     w = Ros2McapWriter(path, "zstd", chunk_size=16384)
     state = w.channel_for("/axisflow/a0/state", JOINT_STATE_TYPE)
     setpoint = w.channel_for("/axisflow/a0/setpoint", JOINT_STATE_TYPE)
@@ -58,6 +59,8 @@ def _write(path, accounting="positive"):
         torque[start : end + 1] = amp_q * np.cos(math.pi * t)
         moving[start:end] = True
     for k in range(total):
+        if k in lost:
+            continue
         stamp = T0 + k * MS
         sample = AxisSample(stamp, "a0", 0.0, 0.0, 0.0, 0.0, float(omega[k]), float(torque[k]))
         w.add(state, stamp, stamp, k, sample.encode())
@@ -84,6 +87,22 @@ def test_measured_energy_idle_ticks_and_the_row(tmp_path):
     assert data["t_opt_ms_mean"] == pytest.approx(0.2) and data["moves_completed"] == 3
     assert {"energy_measured_j", "energy_error_pct", "idle_ticks", "durations_s"} <= set(data)
     assert "| min-time | poly5 | exact | 3/3 | 1.50 | 30 |" in table_markdown(table)
+
+
+def test_lost_samples_are_counted_never_integrated_over(tmp_path):
+    second = range(100 + 400 + 200, 100 + 400 + 205)  # five ticks inside the second move
+    table = table_from_recording(_write(tmp_path / "lost.mcap", lost=set(second)))
+    (row,) = table.rows
+    assert [m.samples_missing for m in row.moves] == [0, 5, 0]
+    assert math.isnan(row.moves[1].energy_measured_j) and len(row.measured) == 2
+    first, third = (amp_w * amp_q * (n / 1000) / (2 * math.pi) for n, _e, amp_w, amp_q in MOVES[::2])
+    assert row.energy_measured_j == pytest.approx(first + third, rel=1e-4)
+    assert row.energy_error_pct == pytest.approx((18.0 - first - third) / 18.0 * 100.0, rel=1e-4)
+    assert row.setpoint_samples_missing == 5 and row.idle_ticks == [0, GAP]
+    data = row.to_json()
+    assert data["energy_measured_per_move_j"][1] is None and data["moves_measured"] == 2
+    assert (data["state_samples_missing"], data["setpoint_samples_missing"]) == (5, 5)
+    assert "5 state samples within 1 moves (left out of E_exp and E%" in table_markdown(table)
 
 
 def test_the_accounting_is_the_plans(tmp_path):
