@@ -18,7 +18,8 @@ CLI = [sys.executable, "-c", "import sys; from axisflow.cli import main; sys.exi
 ENV = {**os.environ, "CI": "1", "RUST_LOG": "error"}
 
 
-def _free_port() -> int:
+def free_port() -> int:
+    """A TCP port on 127.0.0.1 that was free a moment ago."""
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
@@ -29,7 +30,7 @@ class Cli:
 
     @staticmethod
     def free_port() -> int:
-        return _free_port()
+        return free_port()
 
     started: ClassVar[list[subprocess.Popen]] = []
     """every process of :meth:`start`; the autouse fixture kills those still running after a test"""
@@ -53,12 +54,12 @@ class Cli:
         Cli.started.clear()
 
     @staticmethod
-    def run(*args: str, timeout: float = 60.0) -> subprocess.CompletedProcess:
+    def run(*args: str, timeout: float = 120.0) -> subprocess.CompletedProcess:
         """Run ``axisflow ARGS``; raises TimeoutExpired (fails the test) if it does not exit in time."""
         return subprocess.run([*CLI, *args], capture_output=True, text=True, timeout=timeout, env=ENV)
 
     @staticmethod
-    def finish(proc: subprocess.Popen, timeout: float = 30.0) -> tuple[str, str]:
+    def finish(proc: subprocess.Popen, timeout: float = 60.0) -> tuple[str, str]:
         """Wait for a started process; fails the test (after killing it) if it hangs."""
         try:
             return proc.communicate(timeout=timeout)
@@ -97,4 +98,4 @@ def _no_leftover_processes():
 
 @pytest.fixture
 def port() -> int:
-    return _free_port()
+    return free_port()

@@ -1,12 +1,9 @@
 """Fixtures for the security tests: a secure folder (CA, roles, Zenoh files) on a free loopback port, a
-second folder of another CA, an in-process router, and ``axisflow`` subprocesses."""
+second folder of another CA, an in-process router (``axisflow`` subprocesses: the `cli` fixture of
+tests/conftest.py)."""
 
 from __future__ import annotations
 
-import os
-import socket
-import subprocess
-import sys
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -15,14 +12,7 @@ from axisflow.acquisition.zenoh_config import ZenohOptions, open_session
 
 from axisflow.security import SecurityPlan, init_security
 
-CLI = [sys.executable, "-c", "import sys; from axisflow.cli import main; sys.exit(main())"]
-ENV = {**os.environ, "CI": "1", "RUST_LOG": "error"}
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
+from ..conftest import free_port
 
 
 @dataclass(frozen=True)
@@ -60,49 +50,3 @@ def router(secure):
     """The secure router, in-process (a Python session in router mode), for the module's tests."""
     with open_session(secure.options("router")) as session:
         yield session
-
-
-class Cli:
-    """``axisflow`` subprocesses; every started one is killed after the test if still running."""
-
-    started: list[subprocess.Popen] = []  # noqa: RUF012 (shared on purpose)
-
-    @staticmethod
-    def start(*args: str) -> subprocess.Popen:
-        proc = subprocess.Popen(
-            [*CLI, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV
-        )
-        Cli.started.append(proc)
-        return proc
-
-    @staticmethod
-    def run(*args: str, timeout: float = 60.0) -> subprocess.CompletedProcess:
-        return subprocess.run([*CLI, *args], capture_output=True, text=True, timeout=timeout, env=ENV)
-
-    @staticmethod
-    def finish(proc: subprocess.Popen, timeout: float = 30.0) -> tuple[str, str]:
-        try:
-            return proc.communicate(timeout=timeout)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            out, err = proc.communicate()
-            pytest.fail(f"process did not exit within {timeout} s\nstdout:\n{out}\nstderr:\n{err}")
-
-    @staticmethod
-    def kill_leftovers() -> None:
-        for proc in Cli.started:
-            if proc.poll() is None:
-                proc.kill()
-                proc.communicate()
-        Cli.started.clear()
-
-
-@pytest.fixture(scope="session")
-def cli() -> Cli:
-    return Cli()
-
-
-@pytest.fixture(autouse=True)
-def _no_leftover_processes():
-    yield
-    Cli.kill_leftovers()

@@ -1,15 +1,10 @@
 """Fixtures for the view tests: small real MCAP logs of the axis contract, reading an .rrd back with
-rerun's own reader, `axisflow` subprocesses on free loopback ports."""
+rerun's own reader (`axisflow` subprocesses: the `cli` fixture of tests/conftest.py)."""
 
 from __future__ import annotations
 
-import os
-import socket
-import subprocess
-import sys
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import ClassVar
 
 import numpy as np
 import pyarrow as pa
@@ -24,8 +19,6 @@ from axisflow.benchmarks.synthetic_log import SyntheticLogSpec, synthetic_block
 from axisflow.model import EXECUTION_PERIOD_NS, default_params
 from rerun.chunk import RrdReader
 
-CLI = [sys.executable, "-c", "import sys; from axisflow.cli import main; sys.exit(main())"]
-ENV = {**os.environ, "CI": "1", "RUST_LOG": "error"}
 SENDER = "0123456789abcdef0123456789abcdef"
 
 
@@ -210,54 +203,6 @@ def read_rrd(path: Path) -> dict[str, EntityData]:
         order = np.argsort(stamps, kind="stable")
         out[entity] = EntityData(stamps[order], [values[i] for i in order], entity in static)
     return out
-
-
-class Cli:
-    """``axisflow`` subprocesses (killed after each test if still running)."""
-
-    started: ClassVar[list[subprocess.Popen]] = []
-
-    @staticmethod
-    def free_port() -> int:
-        with socket.socket() as s:
-            s.bind(("127.0.0.1", 0))
-            return s.getsockname()[1]
-
-    @staticmethod
-    def start(*args: str) -> subprocess.Popen:
-        proc = subprocess.Popen(
-            [*CLI, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV
-        )
-        Cli.started.append(proc)
-        return proc
-
-    @staticmethod
-    def run(*args: str, timeout: float = 120.0) -> subprocess.CompletedProcess:
-        return subprocess.run([*CLI, *args], capture_output=True, text=True, timeout=timeout, env=ENV)
-
-    @staticmethod
-    def finish(proc: subprocess.Popen, timeout: float = 60.0) -> tuple[str, str]:
-        try:
-            return proc.communicate(timeout=timeout)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            out, err = proc.communicate()
-            pytest.fail(f"process did not exit within {timeout} s\nstdout:\n{out}\nstderr:\n{err}")
-
-
-@pytest.fixture(scope="session")
-def cli() -> Cli:
-    return Cli()
-
-
-@pytest.fixture(autouse=True)
-def _no_leftover_processes():
-    yield
-    for proc in Cli.started:
-        if proc.poll() is None:
-            proc.kill()
-            proc.communicate()
-    Cli.started.clear()
 
 
 @pytest.fixture(scope="session")

@@ -20,6 +20,8 @@ from axisflow.model import EXECUTION_PERIOD_S, EnergyAccounting, default_params,
 from axisflow.viz.live_view import LiveView
 from axisflow.viz.outputs import RerunOutput, ViewOutput
 
+from ..conftest import free_port
+
 
 def test_a_live_view_of_a_bridge_holds_every_published_sample(cli, tmp_path, rrd_reader):
     port = cli.free_port()
@@ -58,7 +60,7 @@ def test_a_live_view_of_a_bridge_holds_every_published_sample(cli, tmp_path, rrd
 
 
 def test_every_record_kind_reaches_the_view(tmp_path, rrd_reader):
-    port = _free_port()
+    port = free_port()
     params = default_params()
     out_path = tmp_path / "records.rrd"
     stop = threading.Event()
@@ -136,11 +138,3 @@ def test_every_record_kind_reaches_the_view(tmp_path, rrd_reader):
     assert energy.stamp_ns.tolist() == [t0 + 500_000_000]
     expected = trace_energy(speed[100:501], torque[100:501], EXECUTION_PERIOD_S, EnergyAccounting.POSITIVE)
     assert energy.scalars().tolist() == [expected]
-
-
-def _free_port() -> int:
-    import socket
-
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
