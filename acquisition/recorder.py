@@ -36,7 +36,7 @@ from .histogram import DurationHistogram, DurationStats
 from .keys import all_keys, topic_for_key
 from .mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE, Ros2McapWriter
 from .publisher import mcap_encoding_of
-from .zenoh_config import check_key_expression
+from .zenoh_config import check_key_expression, settle
 
 log = logging.getLogger(__name__)
 
@@ -279,6 +279,7 @@ class Recorder:
         """Record until ``stop`` is set or ``duration_s`` has passed; returns the summary."""
         stop = stop or threading.Event()
         c = self.config
+        settle(session)  # a subscriber declared on a new session may lose samples (zenoh_config.settle)
         t0 = time.monotonic()
         deadline = None if c.duration_s is None else t0 + c.duration_s
         next_flush = t0 + c.flush_interval_s

@@ -160,8 +160,8 @@ def run_demo(
             from .identification.refit import IdentifySettings  # CasADi: loaded when the demo fits
             from .identify import identify_to
 
-            # the excitation's moves only: a recorder that joins a bridge running at full speed may
-            # miss a few samples in its first tenth of a second (a Zenoh route being set up)
+            # the excitation's moves only: what was recorded around them is of no use, and a sample
+            # lost there (see acquisition.zenoh_config.settle) would stop the refit
             _ident, refit_report = identify_to(
                 out / "refit", [out / "excitation.mcap"], nominal, IdentifySettings(window=done.window())
             )

@@ -1564,9 +1564,10 @@ def _peer_hears_bridge(bridge_endpoint: str, timeout_s: float = 5.0) -> bool:
 
 
 JOIN_LOSS_ALLOWANCE = 5
-"""samples a recorder that joins the running bridge may lose live (the full-disk recorder): a loaded
-machine (telemetry is dropped rather than wait for a consumer) or the route to a new subscriber being
-set up (docs/acquisition.md); the recovery must add none and misplace none"""
+"""samples a recorder that joins the running bridge may lose live (the full-disk recorder): on a loaded
+machine telemetry is dropped rather than wait for a consumer, and a subscriber declared on a new
+session could lose a run of samples (docs/acquisition.md; the recorder now settles first); the
+recovery must add none and misplace none"""
 
 
 def session_faults(work: Path, peers: int = 30, fsize_limit: int = 400_000) -> SessionFaultsResult:
