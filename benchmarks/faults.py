@@ -117,8 +117,15 @@ class Exited:
     stderr: str
 
     def json(self) -> dict[str, Any]:
-        """The JSON object a ``--json`` command printed."""
-        return json.loads(self.stdout)
+        """The JSON object a ``--json`` command printed (a :class:`RuntimeError` with its exit code and
+        stderr if it printed none: killed after a hang, or crashed)."""
+        try:
+            return json.loads(self.stdout)
+        except json.JSONDecodeError:
+            raise RuntimeError(
+                f"exit code {self.returncode}, no JSON on stdout ({self.stdout[-300:]!r}); "
+                f"stderr ends: {self.stderr[-1500:]}"
+            ) from None
 
 
 class Fleet:

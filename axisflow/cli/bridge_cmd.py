@@ -84,8 +84,9 @@ def run(args: argparse.Namespace) -> int:
             report = run_bridge(session, drive, params, config, stop)
         finally:
             drive.close()
-    if args.json:
-        print(json.dumps(report.to_dict(), indent=2))
-    else:
-        print(report.summary())
+        # the report is out before the session closes (a close that hangs must not take it along)
+        if args.json:
+            print(json.dumps(report.to_dict(), indent=2), flush=True)
+        else:
+            print(report.summary(), flush=True)
     return 0
