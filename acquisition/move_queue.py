@@ -18,7 +18,8 @@ Validation happens in two steps, so that the costly one can run off the 1 kHz lo
 * it starts where the axis will be when it starts: |start_position_m − x_end| ≤ ``jump_tolerance_m``,
   with x_end the end position of the last queued move (or the held position) — no jumps;
 * its start (if not "append") is not before the end of the moves already queued;
-* fewer than :data:`MAX_QUEUED_MOVES` moves are queued.
+* fewer than :data:`MAX_QUEUED_MOVES` moves are queued, and a sampled move's knots fit with the queued
+  ones' into :data:`MAX_QUEUED_KNOTS` (the count alone would let 1024 one-hour paths take ~300 GB).
 
 Rejections raise :class:`~axisflow.acquisition.errors.MoveRejectedError` with the reason.
 
@@ -57,6 +58,7 @@ from ..model import (
     polynomial_law,
     stop_profile,
 )
+from ..model.trajectory import MAX_KNOTS
 from .drive import Setpoint
 from .errors import MoveRejectedError
 from .messages import APPEND, SAMPLED_LAW, Knots, MoveCommand
@@ -65,6 +67,11 @@ from .quick_stop import STOP_MOVE_ID
 DEFAULT_JUMP_TOLERANCE_M = 1e-4
 MAX_QUEUED_MOVES = 1024
 """moves a drive holds at once (running included); more are rejected until some have run"""
+MAX_QUEUED_KNOTS = 2 * MAX_KNOTS
+"""knots of sampled moves a drive holds at once (running included): two hours of a 1 kHz path. A
+queued knot costs 80 B (the message's four float64 arrays, 32 B, and the validated trajectory, 48 B;
+tracemalloc of one queued one-hour path, 2026-11-23), so a full budget costs ~0.58 GB; a sampled move
+that would pass it is rejected until some have run"""
 QUICK_STOP_FORCE = 0.9
 """the fraction of the force limit a quick stop brakes with (the rest is the drive's margin: the true
 friction and inertia differ from the nominal ones the profile is computed with)"""
@@ -201,6 +208,11 @@ class MoveQueue:
         """Where the axis will rest after the queued moves."""
         return self._queue[-1].move.x1_m if self._queue else self._hold_m
 
+    @property
+    def queued_knots(self) -> int:
+        """Knots of the queued sampled moves (the running one included)."""
+        return sum(len(q.command.knots) for q in self._queue if q.command.knots is not None)
+
     def end_tick(self, now_tick: int) -> int:
         return max(self._queue[-1].end_tick, now_tick) if self._queue else now_tick
 
@@ -220,6 +232,13 @@ class MoveQueue:
         tag = f"move {cmd.move_id}"
         if len(self._queue) >= MAX_QUEUED_MOVES:
             raise MoveRejectedError(f"{tag}: the queue is full ({MAX_QUEUED_MOVES} moves)")
+        if cmd.knots is not None:
+            queued_knots = self.queued_knots
+            if queued_knots + len(cmd.knots) > MAX_QUEUED_KNOTS:
+                raise MoveRejectedError(
+                    f"{tag}: the queue is full: its {len(cmd.knots)} knots and the {queued_knots} queued "
+                    f"would pass the limit of {MAX_QUEUED_KNOTS} knots of sampled moves"
+                )
         x_end = self.end_position_m
         jump = abs(move.x0_m - x_end)
         if jump > self.jump_tolerance_m:

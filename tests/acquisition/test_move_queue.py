@@ -139,3 +139,24 @@ def test_a_sampled_move_must_agree_with_its_own_end_points():
         MoveQueue(PARAMS, 0.2, T0, "a0").submit(cmd, 0)
     with pytest.raises(MoveRejectedError, match="move 1: law 'sampled' needs knots"):
         MoveQueue(PARAMS, 0.2, T0, "a0").submit(_move(0.2, 0.3, 1.0, law="sampled"), 0)
+
+
+def test_sampled_moves_fill_the_queue_to_its_knot_budget_and_no_further(monkeypatch):
+    from axisflow.acquisition import move_queue
+
+    t, x, v, a = _cosine(0.2, 0.1, 1.0, 2)  # 2 s at 1 ms: 2001 knots each, ending where they start
+    monkeypatch.setattr(move_queue, "MAX_QUEUED_KNOTS", 5000)
+    queue = MoveQueue(PARAMS, 0.2, T0, "a0")
+    first = queue.submit(_sampled(t, x, v, a), 0)
+    queue.submit(_sampled(t, x, v, a), 0)
+    assert queue.queued_knots == 2 * len(t)
+    with pytest.raises(
+        MoveRejectedError, match=r"its 2001 knots and the 4002 queued would pass the limit of 5000"
+    ):
+        queue.submit(_sampled(t, x, v, a), 0)
+    queue.submit(_move(0.2, 0.3, 1.0), 0)  # a polynomial move has no knots: the budget does not bind it
+    for k in range(first.end_tick + 1):  # the first move runs out and leaves the queue
+        queue.advance(k)
+    assert queue.queued_knots == len(t)
+    later = queue.submit(_sampled(*_cosine(0.3, 0.1, 1.0, 2)), first.end_tick)  # fits the budget now
+    assert queue.queued_knots == 2 * len(t) and later.start_tick > first.end_tick
