@@ -31,6 +31,7 @@ from .errors import (
     RecordingError,
     WireError,
     ZenohConfigError,
+    ZenohConnectError,
 )
 from .keys import AxisKeys, KeyExprError, all_keys, key_for_topic, topic_for_key
 from .log_reader import (
@@ -117,6 +118,7 @@ __all__ = [
     "TopicInfo",
     "WireError",
     "ZenohConfigError",
+    "ZenohConnectError",
     "all_keys",
     "is_complete",
     "iter_recording",

@@ -37,6 +37,10 @@ class ZenohConfigError(AcquisitionError, ValueError):
     """The Zenoh options or configuration file are invalid."""
 
 
+class ZenohConnectError(AcquisitionError):
+    """A session whose configuration must connect reached no router or peer in the time allowed."""
+
+
 class RecordingError(AcquisitionError):
     """An MCAP recording cannot be written, read or recovered."""
 

@@ -34,7 +34,7 @@ from pathlib import Path
 
 import zenoh
 
-from .errors import AcquisitionError, ZenohConfigError, zenoh_reason
+from .errors import ZenohConfigError, ZenohConnectError, zenoh_reason
 from .keys import KeyExprError
 
 DEFAULT_ENDPOINT = "tcp/127.0.0.1:7447"
@@ -58,10 +58,6 @@ TLS_FILE_KEYS = (
 _HOST_PORT_PROTOCOLS = ("tcp", "udp", "tls", "quic", "ws")
 """endpoint protocols whose address is ``host:port`` (others, e.g. unixsock-stream, zenoh checks)"""
 _HOST_LABEL = re.compile(r"^[A-Za-z0-9_](?:[A-Za-z0-9_-]{0,61}[A-Za-z0-9_])?$")
-
-
-class ZenohConnectError(AcquisitionError):
-    """A session whose configuration must connect reached no router or peer in the time allowed."""
 
 
 def check_host(host: str, what: str = "host") -> str:

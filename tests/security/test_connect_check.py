@@ -9,13 +9,8 @@ import time
 from pathlib import Path
 
 import pytest
-from axisflow.acquisition.zenoh_config import (
-    ZenohConfigError,
-    ZenohConnectError,
-    ZenohOptions,
-    check_endpoint,
-    open_session,
-)
+from axisflow.acquisition import ZenohConfigError, ZenohConnectError, ZenohOptions, open_session
+from axisflow.acquisition.zenoh_config import check_endpoint
 
 from .conftest import free_port
 
