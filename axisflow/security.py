@@ -22,6 +22,10 @@ to their folder (:func:`axisflow.acquisition.zenoh_config.build_config` resolves
 role's four files (``ca.pem``, ``<role>.pem``, ``<role>.key``, ``<role>.json5``) can be copied
 together to the host that runs it. Keys are ECDSA P-256; certificates are X.509 v3 signed with
 SHA-256, valid from 5 min before issue (clock skew) for ``days`` days, the CA for as long as them.
+
+``add_roles(DIR, ("recorder-laptop",))`` issues more identities with the folder's CA (never valid
+longer than it), writes their files beside the others and rewrites ``router.json5`` with an ACL that
+admits them too; the router reads its ACL at start, so it must be restarted.
 """
 
 from __future__ import annotations
@@ -249,10 +253,14 @@ def router_config(plan: SecurityPlan) -> dict[str, object]:
 
 def role_config(plan: SecurityPlan, role: str) -> dict[str, object]:
     """A role's Zenoh configuration: a client of the router over TLS with its own certificate."""
+    return _client_config(plan.endpoint, role)
+
+
+def _client_config(endpoint: str, role: str) -> dict[str, object]:
     role_kind(role)
     return {
         "mode": "client",
-        "connect": {"endpoints": [plan.endpoint]},
+        "connect": {"endpoints": [endpoint]},
         "scouting": {"multicast": {"enabled": False}},
         "transport": {
             "link": {
@@ -389,16 +397,17 @@ class SecurityInit:
         d = self.directory
         lines.append("next (each in its own terminal or service, the router first; see docs/security.md):")
         lines.append(f"  axisflow router --zenoh-config {d / 'router.json5'}")
-        for role in self.plan.roles:
-            config = d / f"{role}.json5"
-            lines.append(
-                {
-                    "planner": f"  planner: open_session(ZenohOptions(config_file=Path('{config}')))",
-                    "bridge": f"  axisflow bridge --sim --zenoh-config {config}",
-                    "recorder": f"  axisflow record -o session.mcap --zenoh-config {config}",
-                }[role_kind(role)]
-            )
+        lines += [_how_to_run(d, role) for role in self.plan.roles]
         return "\n".join(lines)
+
+
+def _how_to_run(directory: Path, role: str) -> str:
+    config = directory / f"{role}.json5"
+    return {
+        "planner": f"  {role}: open_session(ZenohOptions(config_file=Path('{config}')))",
+        "bridge": f"  axisflow bridge --sim --zenoh-config {config}",
+        "recorder": f"  axisflow record -o session.mcap --zenoh-config {config}",
+    }[role_kind(role)]
 
 
 class _Folder:
@@ -433,6 +442,21 @@ class _Folder:
             raise
         finally:
             shutil.rmtree(old, ignore_errors=True)
+
+    def merge(self) -> None:
+        """Rename the files one by one into the existing target, in the order written (the last one
+        last); on failure the ones already moved are removed again."""
+        moved: list[Path] = []
+        try:
+            for f in self.files:
+                os.replace(self.tmp / f.path.name, f.path)
+                moved.append(f.path)
+        except BaseException:
+            for path in moved:
+                path.unlink(missing_ok=True)
+            raise
+        finally:
+            self.discard()
 
     def discard(self) -> None:
         shutil.rmtree(self.tmp, ignore_errors=True)
@@ -511,14 +535,173 @@ def init_security(plan: SecurityPlan, now: dt.datetime | None = None) -> Securit
 def _write_identity(
     folder: _Folder, name: str, issued: _Issued, config: dict[str, object], plan: SecurityPlan, stamp: str
 ) -> None:
-    folder.write(f"{name}.pem", _pem_cert(issued.certificate), PUBLIC_MODE, f"certificate CN={name}")
-    folder.write(f"{name}.key", _pem_key(issued.key), PRIVATE_MODE, f"private key of {name}")
     who = "the router (run: axisflow router --zenoh-config FILE)" if name == ROUTER else f"role {name}"
     header = (
         f"Zenoh configuration of {who}, written by `axisflow security init` on {stamp}.\n"
         f"Router {plan.endpoint}; keys {plan.prefix}/**. Paths are relative to this file's folder\n"
         "(axisflow resolves them there; for zenohd, start it in this folder)."
     )
+    _write_files(folder, name, issued, config, header)
+
+
+def _write_files(folder: _Folder, name: str, issued: _Issued, config: dict[str, object], header: str) -> None:
+    """An identity's certificate, private key and Zenoh configuration (checked to load in zenoh)."""
+    folder.write(f"{name}.pem", _pem_cert(issued.certificate), PUBLIC_MODE, f"certificate CN={name}")
+    folder.write(f"{name}.key", _pem_key(issued.key), PRIVATE_MODE, f"private key of {name}")
     text = _json5(config, header)
     _check_zenoh_config(f"{name}.json5", text)
     folder.write(f"{name}.json5", text.encode(), PUBLIC_MODE, f"zenoh config of {name}")
+
+
+# ---- adding identities to a folder ----------------------------------------------------------------
+@dataclass
+class SecurityAdd:
+    """What :func:`add_roles` wrote."""
+
+    directory: Path
+    added: tuple[str, ...]
+    roles: tuple[str, ...]
+    """every role the router admits now (the folder's and the added ones)"""
+    not_after: dt.datetime
+    """end of validity of the added certificates (UTC; never after the CA's)"""
+    files: list[WrittenFile] = field(default_factory=list)
+
+    def format(self) -> str:
+        d = self.directory
+        lines = [
+            f"added {', '.join(self.added)} to {d} ({len(self.files)} files; certificates valid until "
+            f"{self.not_after:%Y-%m-%d %H:%M} UTC); router.json5 now admits {', '.join(self.roles)}",
+        ]
+        lines += [f"  {oct(f.mode)[2:]:>4}  {f.path.name:<18} {f.what}" for f in self.files]
+        lines.append("next: restart the router (it reads its access-control list at start):")
+        lines.append(f"  axisflow router --zenoh-config {d / 'router.json5'}")
+        lines += [_how_to_run(d, role) for role in self.added]
+        return "\n".join(lines)
+
+
+def _read_json5(path: Path) -> dict:
+    """A ``.json5`` file this module wrote (``//`` comment lines, then JSON)."""
+    try:
+        text = path.read_text()
+    except FileNotFoundError:
+        raise SecurityError(f"{path} is missing: not a folder written by `axisflow security init`") from None
+    except OSError as exc:
+        raise SecurityError(f"cannot read {path}: {exc.strerror}") from None
+    body = "".join(line for line in text.splitlines(keepends=True) if not line.lstrip().startswith("//"))
+    try:
+        return json.loads(body)
+    except json.JSONDecodeError as exc:
+        raise SecurityError(
+            f"{path} is not the JSON that `axisflow security init` writes (line {exc.lineno}: {exc.msg}): "
+            "edited by hand? not rewriting it"
+        ) from None
+
+
+def _folder_acl(router: dict, path: Path) -> tuple[str, tuple[str, ...]]:
+    """The prefix and roles of a router configuration's ACL, checked to be exactly what
+    :func:`acl_config` writes for them (a hand-edited list is not rewritten)."""
+    try:
+        acl = router["access_control"]
+        roles = tuple(str(subject["id"]) for subject in acl["subjects"])
+        first = roles[0]
+        key = acl["rules"][0]["key_exprs"][0]
+        prefix = key[: -len(ROLE_GRANTS[role_kind(first)][0].suffixes[0]) - 1]
+        same = acl == acl_config(prefix, roles)
+    except (KeyError, IndexError, TypeError, ValueError, SecurityError):
+        same = False
+    if not same:
+        raise SecurityError(
+            f"the access-control list in {path} is not one `axisflow security init` wrote: edited by "
+            "hand? not rewriting it (add the role there by hand, or rotate with `security init`)"
+        )
+    return prefix, roles
+
+
+def _load_ca(directory: Path) -> _Issued:
+    try:
+        cert = x509.load_pem_x509_certificate((directory / "ca.pem").read_bytes())
+        key = serialization.load_pem_private_key((directory / "ca.key").read_bytes(), password=None)
+    except FileNotFoundError as exc:
+        raise SecurityError(
+            f"{exc.filename} is missing: adding a role needs the CA's certificate and private key (bring "
+            "ca.key back from where it is kept offline)"
+        ) from None
+    except (OSError, ValueError, TypeError) as exc:
+        raise SecurityError(f"cannot load the CA of {directory}: {exc}") from None
+    if not isinstance(key, ec.EllipticCurvePrivateKey) or key.public_key() != cert.public_key():
+        raise SecurityError(f"{directory / 'ca.key'} is not the private key of {directory / 'ca.pem'}")
+    return _Issued(key, cert)
+
+
+def add_roles(
+    directory: Path, roles: tuple[str, ...], days: int = DEFAULT_DAYS, now: dt.datetime | None = None
+) -> SecurityAdd:
+    """Issue certificates for more ``roles`` with the CA of a folder of :func:`init_security`, write
+    their files, and rewrite its ``router.json5`` so that the ACL admits them too (the router reads it
+    at start: restart it). The folder's other files are not touched; nothing is written on error."""
+    d = Path(directory).absolute()
+    if not d.is_dir():
+        raise SecurityError(
+            f"{directory} does not exist or is not a folder: `security add` needs a folder written by "
+            "`axisflow security init`"
+        )
+    if not 1 <= days <= MAX_DAYS:
+        raise SecurityArgumentError(f"validity = {days} days must be in 1…{MAX_DAYS} days")
+    for name in roles:
+        role_kind(name)
+    if len(set(roles)) != len(roles) or not roles:
+        raise SecurityArgumentError(f"roles {', '.join(roles) or '(none)'}: name each new role once")
+    router = _read_json5(d / f"{ROUTER}.json5")
+    prefix, existing = _folder_acl(router, d / f"{ROUTER}.json5")
+    for name in roles:
+        if name in existing or (d / f"{name}.pem").exists() or (d / f"{name}.key").exists():
+            raise SecurityError(
+                f"role {name!r} is already in {directory}: not reissuing it (a new name of its kind, e.g. "
+                f"{role_kind(name)}-2, or rotate with `security init` to replace a key)"
+            )
+    endpoint = _client_config_endpoint(d / f"{existing[0]}.json5")
+    ca = _load_ca(d)
+    issued_at = now or dt.datetime.now(dt.UTC)
+    ca_end = ca.certificate.not_valid_after_utc
+    if ca_end <= issued_at:
+        raise SecurityError(f"the CA of {directory} expired on {ca_end:%Y-%m-%d %H:%M} UTC: rotate with init")
+    not_after = min(issued_at + dt.timedelta(days=days), ca_end)
+    stamp = f"{issued_at:%Y-%m-%d %H:%M} UTC"
+    everyone = existing + tuple(roles)
+    router["access_control"] = acl_config(prefix, everyone)
+    try:
+        folder = _Folder(d)
+    except OSError as exc:
+        raise SecurityError(f"cannot create a temporary folder in {d.parent}: {exc.strerror}") from None
+    try:
+        for name in roles:
+            leaf = _issue_leaf(
+                ca, name, ExtendedKeyUsageOID.CLIENT_AUTH, issued_at - CLOCK_SKEW, not_after, []
+            )
+            header = (
+                f"Zenoh configuration of role {name}, written by `axisflow security add` on {stamp}.\n"
+                f"Router {endpoint}; keys {prefix}/**. Paths are relative to this file's folder."
+            )
+            _write_files(folder, name, leaf, _client_config(endpoint, name), header)
+        header = (
+            f"Zenoh configuration of the router (run: axisflow router --zenoh-config FILE), rewritten by\n"
+            f"`axisflow security add` on {stamp} (roles {', '.join(everyone)}); keys {prefix}/**.\n"
+            "Paths are relative to this file's folder (for zenohd, start it in this folder)."
+        )
+        text = _json5(router, header)
+        _check_zenoh_config(f"{ROUTER}.json5", text)
+        folder.write(f"{ROUTER}.json5", text.encode(), PUBLIC_MODE, f"zenoh config of {ROUTER} (rewritten)")
+        folder.merge()
+    except BaseException as exc:
+        folder.discard()
+        if isinstance(exc, OSError):
+            raise SecurityError(f"cannot write into {d}: {exc.strerror or exc}") from None
+        raise
+    return SecurityAdd(d, tuple(roles), everyone, not_after, folder.files)
+
+
+def _client_config_endpoint(path: Path) -> str:
+    try:
+        return str(_read_json5(path)["connect"]["endpoints"][0])
+    except (KeyError, IndexError, TypeError):
+        raise SecurityError(f"{path} names no router endpoint: not a role file of `security init`") from None

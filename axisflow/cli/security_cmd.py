@@ -1,4 +1,5 @@
-"""``axisflow security init DIR``: a CA, per-role certificates and the Zenoh files of a secure set-up."""
+"""``axisflow security init DIR``: a CA, per-role certificates and the Zenoh files of a secure set-up;
+``axisflow security add DIR --roles …``: more identities with that CA."""
 
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ from ..security import (
     DEFAULT_PORT,
     DEFAULT_ROLES,
     SecurityPlan,
+    add_roles,
     init_security,
     parse_roles,
 )
@@ -81,6 +83,30 @@ def register(sub: argparse._SubParsersAction) -> None:
     init.add_argument("--force", action="store_true", help="replace DIR if it exists (its old keys are lost)")
     init.set_defaults(func=run_init)
 
+    add = actions.add_parser(
+        "add",
+        help="issue more roles with the CA of a folder of `security init` and admit them in its router",
+        description="Issue a certificate, private key and Zenoh JSON5 file for each new role with the CA "
+        "of DIR (its ca.key must be there), and rewrite DIR/router.json5 so that its access-control "
+        "list admits them too. Restart the router afterwards: it reads the list at start. Existing "
+        "roles and files are not touched; a role already in DIR is refused.",
+    )
+    add.add_argument("directory", metavar="DIR", help="a folder written by `axisflow security init`")
+    add.add_argument(
+        "--roles",
+        required=True,
+        metavar="R1,R2,…",
+        help="the new roles: planner, bridge, recorder, or KIND-NAME (e.g. recorder-laptop)",
+    )
+    add.add_argument(
+        "--days",
+        type=positive_int,
+        default=DEFAULT_DAYS,
+        metavar="N",
+        help=f"validity of the new certificates [days] (default {DEFAULT_DAYS}; never past the CA's)",
+    )
+    add.set_defaults(func=run_add)
+
 
 def run_init(args: argparse.Namespace) -> int:
     plan = SecurityPlan(
@@ -94,4 +120,9 @@ def run_init(args: argparse.Namespace) -> int:
         force=args.force,
     )
     print(init_security(plan).format())
+    return 0
+
+
+def run_add(args: argparse.Namespace) -> int:
+    print(add_roles(Path(args.directory), parse_roles(args.roles), args.days).format())
     return 0
