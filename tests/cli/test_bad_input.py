@@ -26,6 +26,7 @@ from axisflow.acquisition.messages import JOINT_STATE_TYPE, MOVE_TYPE
 from axisflow.model import default_params
 
 from axisflow.cli import main
+from axisflow.security import SecurityPlan, init_security
 
 CLI = [sys.executable, "-c", "import sys; from axisflow.cli import main; sys.exit(main())"]
 LOOPBACK = ("--listen", "tcp/127.0.0.1:0")  # a session that reaches for nobody else's peers
@@ -571,6 +572,26 @@ CASES = [
         says=("70000", "1…65535"),
         untouched=("sec",),
     ),
+    case(
+        "security add: role already there",
+        "security",
+        "add",
+        "secure",
+        "--roles",
+        "recorder",
+        says=("role 'recorder' is already in secure", "not reissuing"),
+        untouched=("secure",),
+    ),
+    case(
+        "security add: no such folder",
+        "security",
+        "add",
+        "nowhere",
+        "--roles",
+        "recorder-2",
+        says=("nowhere does not exist or is not a folder",),
+        untouched=("nowhere",),
+    ),
     case("router: nothing to listen on", "router", says=("needs --zenoh-config FILE", "--listen EP")),
     case("router: zero duration", "router", "--duration", "0", *LOOPBACK, says=("duration = 0.0 s", "> 0 s")),
     case(
@@ -634,6 +655,7 @@ def inputs(tmp_path_factory) -> Path:
     _recording(d / "wrong-schema.mcap", schema=MOVE_TYPE)
     _recording(d / "nan-samples.mcap", nan=True)
     (d / "truncated.mcap").write_bytes((d / "still.mcap").read_bytes()[:40])  # magic and header only
+    init_security(SecurityPlan(d / "secure", days=2))
     return d
 
 
