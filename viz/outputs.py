@@ -16,6 +16,7 @@ Every rerun process started here runs with ``CI=1`` (the rerun CLI's analytics s
 from __future__ import annotations
 
 import os
+import resource
 import signal
 import socket
 import subprocess
@@ -23,6 +24,7 @@ import sys
 import tempfile
 import time
 import uuid
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from types import TracebackType
@@ -39,6 +41,13 @@ APPLICATION_ID = "axisflow_view"
 LOOPBACK = "127.0.0.1"
 VIEWER_START_TIMEOUT_S = 20.0
 _STOP_TIMEOUT_S = 5.0
+MIN_FREE_BYTES = 16 * 2**20
+"""room an .rrd needs before a view starts [bytes]. Measured with rerun-sdk 0.41 (2026-11-23): when
+its file writer fails on the first write (a 20 kB file-size limit), ``set_sinks`` never returns; a
+writer that fails later makes the final flush raise, which :class:`RerunOutput` reports"""
+RRD_BYTES_PER_LOG_BYTE = 1.5
+"""an .rrd of a log view is 1.15–1.55× the size of its MCAP logs (measured 2026-11-23: the demo's
+25 MB excitation → 29 MB, 84 MB experiment → 104 MB, a 0.44 MB test log → 0.68 MB)"""
 
 
 def rerun_env() -> dict[str, str]:
@@ -60,6 +69,35 @@ def check_rrd_path(path: str | Path) -> Path:
     if p.exists() and not os.access(p, os.W_OK):
         raise OutputError(f"output {p} exists and is not writable")
     return p
+
+
+def view_size_estimate(logs: Sequence[str | Path]) -> int:
+    """About how large the .rrd of a view of ``logs`` will be [bytes] (:data:`RRD_BYTES_PER_LOG_BYTE`
+    times their size; a log that is not a file counts 0, it is refused later)."""
+    return int(RRD_BYTES_PER_LOG_BYTE * sum(Path(p).stat().st_size for p in logs if Path(p).is_file()))
+
+
+def room_for_file(folder: Path) -> tuple[int, str]:
+    """Bytes a new file in ``folder`` may take: the file system's free space for this user, or the
+    process's file-size limit (RLIMIT_FSIZE) if lower; with what bounds it."""
+    stat = os.statvfs(folder)
+    room, why = stat.f_bavail * stat.f_frsize, f"free on the file system of {folder}"
+    limit = resource.getrlimit(resource.RLIMIT_FSIZE)[0]
+    if limit != resource.RLIM_INFINITY and limit < room:
+        room, why = limit, "the process's file-size limit (ulimit -f)"
+    return room, why
+
+
+def check_room(path: Path, needed_bytes: int = 0) -> None:
+    """An :class:`OutputError` if ``path`` cannot take ``needed_bytes`` (at least
+    :data:`MIN_FREE_BYTES`): see :data:`MIN_FREE_BYTES` for why a view checks before it starts."""
+    needed = max(needed_bytes, MIN_FREE_BYTES)
+    room, why = room_for_file(path.parent if str(path.parent) else Path("."))
+    if room < needed:
+        raise OutputError(
+            f"output {path}: {room / 1e6:.1f} MB of room ({why}), the view needs about "
+            f"{needed / 1e6:.0f} MB: free some space, or write elsewhere with -o"
+        )
 
 
 def check_display() -> None:
@@ -128,12 +166,16 @@ class ViewOutput:
     serve: bool = False
     web_port: int = 0
     """port of the web viewer for ``serve`` (0: a free one)"""
+    expected_bytes: int = 0
+    """about how large the .rrd will be (e.g. :func:`view_size_estimate`): refused up front if the
+    room for it is smaller (and always below :data:`MIN_FREE_BYTES`)"""
 
     def __post_init__(self) -> None:
         if self.rrd is None and not self.spawn and not self.serve:
             raise VizError("nowhere to send the view: give -o FILE.rrd, --spawn or --serve")
         if self.rrd is not None:
             check_rrd_path(self.rrd)
+            check_room(self.rrd, self.expected_bytes)
         if self.spawn:
             check_display()
 
@@ -184,6 +226,14 @@ class RerunOutput:
         try:
             self.rec.flush()
             self.rec.disconnect()
+        except RuntimeError as exc:  # rerun's writer stopped (measured: a file-size limit, EFBIG)
+            success = False
+            rrd = self.output.rrd
+            raise OutputError(
+                f"rerun could not finish the view: {str(exc).rstrip('.')} (its own log line above says "
+                "why: a full disk, a file-size limit, a viewer gone)"
+                + (f"; {rrd} was not written" if rrd is not None else "")
+            ) from None
         except BaseException:
             success = False
             raise

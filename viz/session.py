@@ -31,7 +31,7 @@ from ..model import AxisParams
 from .blueprint import view_blueprint
 from .entities import AxisEntities, axis_label
 from .errors import VizError
-from .outputs import RerunOutput, ViewOutput
+from .outputs import RerunOutput, ViewOutput, view_size_estimate
 from .samples import AxisSamples
 from .scene import AxisScene
 
@@ -182,7 +182,7 @@ def _log_axis(scene: AxisScene, path: Path, topics: AxisTopics, counts: AxisSumm
 def write_session_rrd(recordings: Sequence[str | Path], out_rrd: str | Path, params: AxisParams) -> Path:
     """The view of ``recordings`` (MCAP logs, e.g. a demo session's) saved to ``out_rrd`` with its
     layout; written atomically (nothing is left at ``out_rrd`` if it fails). Returns ``out_rrd``."""
-    output = ViewOutput(rrd=Path(out_rrd))
+    output = ViewOutput(rrd=Path(out_rrd), expected_bytes=view_size_estimate(recordings))
     session = SessionLogs.open(recordings)
     with RerunOutput(output, session.blueprint()) as out:
         log_session(out.rec, session, params)

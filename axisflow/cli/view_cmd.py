@@ -63,7 +63,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ..viz.errors import VizError
-    from ..viz.outputs import RerunOutput, ViewOutput
+    from ..viz.outputs import RerunOutput, ViewOutput, view_size_estimate
     from ..viz.session import SessionLogs, log_session
 
     params = params_from_args(args)
@@ -77,7 +77,11 @@ def run(args: argparse.Namespace) -> int:
     if rrd is None and not (args.spawn or args.serve):
         rrd = Path(args.logs[0]).with_suffix(".rrd")
     output = ViewOutput(
-        rrd=Path(rrd) if rrd else None, spawn=args.spawn, serve=args.serve, web_port=args.web_port
+        rrd=Path(rrd) if rrd else None,
+        spawn=args.spawn,
+        serve=args.serve,
+        web_port=args.web_port,
+        expected_bytes=view_size_estimate(args.logs),
     )
     session = SessionLogs.open(args.logs)
     with RerunOutput(output, session.blueprint()) as out:

@@ -118,3 +118,58 @@ def test_bad_figure_input_is_one_line_exit_2_and_writes_nothing(tmp_path, capsys
         lines = capsys.readouterr().err.strip().splitlines()
         assert len(lines) == 1 and message in lines[0], (args, lines)
     assert sorted(os.listdir(tmp_path)) == ["file"]
+
+
+def _view_under_a_file_size_limit(log, rrd, limit: int, precheck: bool = True):
+    """``axisflow view LOG -o RRD`` in a process whose file-size limit is ``limit`` bytes (RLIMIT_FSIZE:
+    what a full disk does to a writer, EFBIG); ``precheck=False`` turns the room check off, so that
+    rerun's writer meets the limit."""
+    import subprocess
+    import sys
+
+    code = (
+        "import resource, sys; "
+        f"resource.setrlimit(resource.RLIMIT_FSIZE, ({limit}, {limit})); "
+        + (
+            ""
+            if precheck
+            else "import axisflow.viz.outputs as o; o.MIN_FREE_BYTES = o.RRD_BYTES_PER_LOG_BYTE = 0; "
+        )
+        + "from axisflow.cli import main; sys.exit(main())"
+    )
+    return subprocess.run(
+        [sys.executable, "-c", code, "view", str(log), "-o", str(rrd)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, "CI": "1"},
+    )
+
+
+def _our_error_line(stderr: str) -> str:
+    ours = [line for line in stderr.splitlines() if line.startswith("axisflow view: error:")]
+    assert len(ours) == 1 and "Traceback" not in stderr, stderr
+    return ours[0]
+
+
+def test_a_view_without_room_for_its_rrd_is_refused_before_it_starts(test_log, tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    done = _view_under_a_file_size_limit(test_log.path, out / "v.rrd", 200_000)
+    assert done.returncode == 2, done.stderr
+    line = _our_error_line(done.stderr)
+    assert "0.2 MB of room (the process's file-size limit (ulimit -f)), the view needs about 17 MB" in line
+    assert done.stdout == "" and list(out.iterdir()) == []
+
+
+def test_a_view_whose_writer_fails_is_one_line_exit_2_and_leaves_no_file(test_log, tmp_path):
+    """The 3 s log's .rrd (~0.7 MB) meets a 200 kB limit: rerun's writer stops, the final flush raises,
+    and the command says so in one line of its own, leaving neither the .rrd nor a part file."""
+    out = tmp_path / "out"
+    out.mkdir()
+    done = _view_under_a_file_size_limit(test_log.path, out / "v.rrd", 200_000, precheck=False)
+    assert done.returncode == 2, done.stderr
+    line = _our_error_line(done.stderr)
+    assert "rerun could not finish the view: File-writer thread shut down prematurely" in line
+    assert "v.rrd was not written" in line
+    assert list(out.iterdir()) == []
