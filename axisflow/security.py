@@ -37,6 +37,8 @@ import os
 import re
 import shutil
 import tempfile
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -393,12 +395,16 @@ class SecurityInit:
             f"{self.not_after:%Y-%m-%d %H:%M} UTC; router {self.plan.listen_endpoint}, "
             f"roles {', '.join(self.plan.roles)}, keys {self.plan.prefix}/**)",
         ]
-        lines += [f"  {oct(f.mode)[2:]:>4}  {f.path.name:<18} {f.what}" for f in self.files]
+        lines += _file_lines(self.files)
         d = self.directory
         lines.append("next (each in its own terminal or service, the router first; see docs/security.md):")
         lines.append(f"  axisflow router --zenoh-config {d / 'router.json5'}")
         lines += [_how_to_run(d, role) for role in self.plan.roles]
         return "\n".join(lines)
+
+
+def _file_lines(files: list[WrittenFile]) -> list[str]:
+    return [f"  {oct(f.mode)[2:]:>4}  {f.path.name:<18} {f.what}" for f in files]
 
 
 def _how_to_run(directory: Path, role: str) -> str:
@@ -461,6 +467,18 @@ class _Folder:
     def discard(self) -> None:
         shutil.rmtree(self.tmp, ignore_errors=True)
 
+    @contextmanager
+    def discarded_on_error(self, what: str) -> Iterator[None]:
+        """Discard everything written on any error in the block; an :class:`OSError` becomes a
+        :class:`SecurityError` saying ``cannot write WHAT``."""
+        try:
+            yield
+        except BaseException as exc:
+            self.discard()
+            if isinstance(exc, OSError):
+                raise SecurityError(f"cannot write {what}: {exc.strerror or exc}") from None
+            raise
+
 
 def _check_target(plan: SecurityPlan) -> Path:
     target = Path(plan.directory).absolute()
@@ -512,7 +530,7 @@ def init_security(plan: SecurityPlan, now: dt.datetime | None = None) -> Securit
         folder = _Folder(target)
     except OSError as exc:
         raise SecurityError(f"cannot create a temporary folder in {target.parent}: {exc.strerror}") from None
-    try:
+    with folder.discarded_on_error(str(target)):
         ca = _issue_ca(f"axisflow CA {plan.prefix} {stamp}", not_before, not_after)
         folder.write("ca.pem", _pem_cert(ca.certificate), PUBLIC_MODE, "CA certificate (every host)")
         folder.write("ca.key", _pem_key(ca.key), PRIVATE_MODE, "CA private key (keep offline)")
@@ -524,11 +542,6 @@ def init_security(plan: SecurityPlan, now: dt.datetime | None = None) -> Securit
             issued = _issue_leaf(ca, role, ExtendedKeyUsageOID.CLIENT_AUTH, not_before, not_after, [])
             _write_identity(folder, role, issued, role_config(plan, role), plan, stamp)
         folder.commit()
-    except BaseException as exc:
-        folder.discard()
-        if isinstance(exc, OSError):
-            raise SecurityError(f"cannot write {target}: {exc.strerror or exc}") from None
-        raise
     return SecurityInit(target, plan, not_after, folder.files)
 
 
@@ -572,7 +585,7 @@ class SecurityAdd:
             f"added {', '.join(self.added)} to {d} ({len(self.files)} files; certificates valid until "
             f"{self.not_after:%Y-%m-%d %H:%M} UTC); router.json5 now admits {', '.join(self.roles)}",
         ]
-        lines += [f"  {oct(f.mode)[2:]:>4}  {f.path.name:<18} {f.what}" for f in self.files]
+        lines += _file_lines(self.files)
         lines.append("next: restart the router (it reads its access-control list at start):")
         lines.append(f"  axisflow router --zenoh-config {d / 'router.json5'}")
         lines += [_how_to_run(d, role) for role in self.added]
@@ -673,7 +686,7 @@ def add_roles(
         folder = _Folder(d)
     except OSError as exc:
         raise SecurityError(f"cannot create a temporary folder in {d.parent}: {exc.strerror}") from None
-    try:
+    with folder.discarded_on_error(f"into {d}"):
         for name in roles:
             leaf = _issue_leaf(
                 ca, name, ExtendedKeyUsageOID.CLIENT_AUTH, issued_at - CLOCK_SKEW, not_after, []
@@ -692,11 +705,6 @@ def add_roles(
         _check_zenoh_config(f"{ROUTER}.json5", text)
         folder.write(f"{ROUTER}.json5", text.encode(), PUBLIC_MODE, f"zenoh config of {ROUTER} (rewritten)")
         folder.merge()
-    except BaseException as exc:
-        folder.discard()
-        if isinstance(exc, OSError):
-            raise SecurityError(f"cannot write into {d}: {exc.strerror or exc}") from None
-        raise
     return SecurityAdd(d, tuple(roles), everyone, not_after, folder.files)
 
 
