@@ -1310,18 +1310,21 @@ class FloodResult(FaultResult):
 
     @property
     def rss_growth_mb(self) -> float:
-        """RSS after the second flood less after the first: what a flood leaves behind"""
-        return self.rss_mb["after flood 2"] - self.rss_mb["after flood 1"]
+        """RSS after the last flood less after the one before: what a flood leaves behind once the
+        allocator has settled (the first floods grow it by a few MB that later ones reuse: measured
+        3.9, 1.9, 0.2, 0.3, −1.5, 1.2 MB over six floods)"""
+        n = len(self.per_sender)
+        return self.rss_mb[f"after flood {n}"] - self.rss_mb[f"after flood {n - 1}"]
 
     @property
     def passed(self) -> bool:
-        first, second = self.per_sender
+        first, *later = self.per_sender
         return (
             first["accepted"] == self.limit
-            and second["accepted"] == self.limit - 1  # the first sender's running move is still queued
+            # the first sender's running move is still queued
+            and all(s["accepted"] == self.limit - 1 for s in later)
             and all(s["rejected"] == s["queue_full"] == s["sent"] - s["accepted"] for s in self.per_sender)
-            and first["dropped"] == self.limit - 1
-            and second["dropped"] == self.limit - 1
+            and all(s["dropped"] == self.limit - 1 for s in self.per_sender)
             and self.max_queued == self.limit
             and abs(self.rss_growth_mb) <= MAX_FLOOD_RSS_GROWTH_MB
             and self.end.telemetry_intact
@@ -1329,16 +1332,19 @@ class FloodResult(FaultResult):
         )
 
     def outcome(self) -> Outcome:
-        first, second = self.per_sender
+        n = len(self.per_sender)
+        rss = " → ".join(
+            f"{self.rss_mb[k]:.1f}" for k in ["before", *(f"after flood {i}" for i in range(1, n + 1))]
+        )
         return Outcome(
-            f"a flood of valid moves ({first['sent']} from a sender, its queue dropped, then again)",
+            f"a flood of valid moves ({self.per_sender[0]['sent']} from a sender, its queue dropped; "
+            f"{n} senders one after another)",
             self.passed,
-            f"accepted {first['accepted']} and {second['accepted']} (at most {self.max_queued} queued; limit "
-            f"{self.limit}), the rest rejected 'queue is full' ({first['queue_full']}, "
-            f"{second['queue_full']}); "
-            f"answered in {self.answer_s[0]:.1f} s and {self.answer_s[1]:.1f} s; bridge RSS "
-            f"{self.rss_mb['before']:.1f} → {self.rss_mb['after flood 1']:.1f} → "
-            f"{self.rss_mb['after flood 2']:.1f} MB (peak {self.rss_mb['peak']:.1f}); telemetry: all "
+            f"accepted {', '.join(str(s['accepted']) for s in self.per_sender)} (at most {self.max_queued} "
+            f"queued; limit {self.limit}), the rest rejected 'queue is full' "
+            f"({', '.join(str(s['queue_full']) for s in self.per_sender)}); "
+            f"answered in {', '.join(f'{a:.1f}' for a in self.answer_s)} s; bridge RSS {rss} MB (peak "
+            f"{self.rss_mb['peak']:.1f}; the last flood left {self.rss_growth_mb:+.1f} MB); telemetry: all "
             f"{self.end.state.messages} ticks recorded 1 ms apart: {self.end.telemetry_intact}; "
             + "; ".join(f"{k}: {v}" for k, v in self.stalls.items()),
             "axisflow bench faults --only move_flood",
@@ -1354,7 +1360,8 @@ class FloodResult(FaultResult):
 
 
 MAX_FLOOD_RSS_GROWTH_MB = 5.0
-"""a second flood may leave at most this much more resident memory than the first"""
+"""the last flood may leave at most this much more resident memory than the one before (a leak of
+2.5 kB per accepted move would pass it)"""
 
 
 def _max_queued(statuses: list[MoveStatus]) -> int:
@@ -1405,10 +1412,11 @@ def _flood(
     return counts, seconds
 
 
-def move_flood(work: Path, moves: int = 2000, move_s: float = 20.0) -> FloodResult:
+def move_flood(work: Path, moves: int = 2000, move_s: float = 30.0, floods: int = 3) -> FloodResult:
     """Fault 5: a sender sends ``moves`` valid moves as fast as the bridge takes them (each ``move_s``
-    long, so none ends during the flood), then closes (its queue is dropped; the running move goes on);
-    a second sender does the same. Bridge at 1× real time, recorded, its RSS sampled."""
+    long, so none ends during the floods), then closes (its queue is dropped; the running move goes
+    on); ``floods`` − 1 more senders do the same, one after another. Bridge at 1× real time, recorded,
+    its RSS sampled."""
     from axisflow.acquisition.move_queue import MAX_QUEUED_MOVES
 
     params = default_params()
@@ -1424,7 +1432,7 @@ def move_flood(work: Path, moves: int = 2000, move_s: float = 20.0) -> FloodResu
             watch = StatusWatch(session)
             time.sleep(1.0)
             rss_at["before"] = rss.samples[-1][1]
-            for flood in ("flood 1", "flood 2"):
+            for flood in (f"flood {i}" for i in range(1, floods + 1)):
                 marks[flood] = time.time_ns()
                 counts, seconds = _flood(session, watch, x, moves, move_s)
                 per_sender.append(counts)
