@@ -46,7 +46,7 @@ while)"""
 _STAMP = struct.Struct("<iI")
 
 
-def _axis_counts(text: str) -> list[int]:
+def axis_counts(text: str) -> list[int]:
     """argparse type: comma-separated axis counts, each ≥ 1."""
     try:
         counts = [int(a) for a in text.split(",") if a.strip()]
@@ -60,7 +60,7 @@ def _axis_counts(text: str) -> list[int]:
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--axes",
-        type=_axis_counts,
+        type=axis_counts,
         default=DEFAULT_AXES,
         help=f"axis counts to try, ascending (default {DEFAULT_AXES})",
     )

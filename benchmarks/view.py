@@ -32,6 +32,7 @@ import tempfile
 import time
 from pathlib import Path
 
+from .pipeline import axis_counts
 from .synthetic_log import SyntheticLogSpec, write_synthetic_log
 
 GOAL_HOUR_S = 10.0
@@ -49,7 +50,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--log", default=None, metavar="FILE", help="keep the synthetic log here (reused if it exists)"
     )
     parser.add_argument(
-        "--axes", default="8", help="axis counts of the live step, comma-separated (default 8)"
+        "--axes",
+        type=axis_counts,
+        default=[GOAL_LIVE_AXES],
+        help=f"axis counts of the live step, comma-separated (default {GOAL_LIVE_AXES})",
     )
     parser.add_argument(
         "--seconds", type=float, default=10.0, help="length of each live step [s] (default 10)"
@@ -284,7 +288,7 @@ def run(args: argparse.Namespace) -> int:
             _log_steps(args, tmp, result)
         if not args.no_live:
             steps = []
-            for n in (int(x) for x in args.axes.split(",") if x.strip()):
+            for n in args.axes:
                 _say(args, f"live view of {n} axes for {args.seconds:g} s")
                 steps.append(_live_step(args, tmp, n))
             result["live"] = steps
