@@ -40,9 +40,9 @@ from .acquisition import AxisKeys
 from .acquisition.zenoh_config import ZenohOptions, open_session
 from .excite import run_excitation
 from .experiment import CASES, LAWS
-from .files import write_atomic
 from .identification.excitation import design_excitation
 from .model import AxisflowError, AxisParams, load_params
+from .model.files import write_atomic
 from .planner import DEFAULT_OMEGA, make_backend
 from .planner_node import NodeRun, NodeSettings, PlannerNode
 from .table2 import RecordedTable, table_from_recording, table_markdown

@@ -50,6 +50,7 @@ from cryptography.x509.oid import ExtendedKeyUsageOID, NameOID
 from .acquisition.keys import DEFAULT_PREFIX, all_keys
 from .acquisition.zenoh_config import check_host
 from .model import AxisflowError
+from .model.files import check_writable
 
 ROUTER = "router"
 """the router's certificate common name and file stem (reserved: not a role name)"""
@@ -495,8 +496,7 @@ def _check_target(plan: SecurityPlan) -> Path:
         target.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise SecurityError(f"cannot create {target.parent}: {exc.strerror}") from None
-    if not os.access(target.parent, os.W_OK | os.X_OK):
-        raise SecurityError(f"cannot write into {target.parent}: permission denied")
+    check_writable(target.parent, f"cannot write into {target.parent}")
     return target
 
 

@@ -414,7 +414,7 @@ def run(args: argparse.Namespace) -> int:
         else:
             _print_latency(res)
     if args.out:
-        from axisflow.files import write_atomic
+        from axisflow.model.files import write_atomic
 
         write_atomic(args.out, json.dumps(res, indent=1) + "\n")
     return 0

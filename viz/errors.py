@@ -8,12 +8,14 @@ written, a figure input that does not fit) is a :class:`VizError`, itself an
 
 from __future__ import annotations
 
-from ..model import AxisflowError
+from ..model import AxisflowError, files
 
 
 class VizError(AxisflowError):
     """Root of the errors raised by :mod:`axisflow.viz`."""
 
 
-class OutputError(VizError):
-    """An output file (.rrd, .png) or folder cannot be written."""
+class OutputError(VizError, files.OutputError):
+    """An output file (.rrd, .png) or folder cannot be written (also the base layer's
+    :class:`axisflow.model.files.OutputError`, which the folder checks of :mod:`axisflow.model.files`
+    raise)."""

@@ -27,9 +27,9 @@ from pathlib import Path
 
 from ..identification.refit import IdentifySettings, identify
 from ..model import AxisParams
+from ..model.files import check_output_dir, ensure_dir, write_atomic
 from ..planner import Case
 from .energy_map_figure import energy_map, energy_map_png
-from .files import atomic_file, check_output_folder
 from .identification_figure import identification_png
 from .iteration_cap_figure import cap_study, iteration_cap_png
 from .trajectory_figure import CASE_TITLES, planned_traces, recorded_traces, trajectory_png
@@ -102,14 +102,8 @@ def _fig5(params: AxisParams, waypoints: Sequence[float], case: Case, recording:
 
 def save_figures(figures: Figures, out_dir: str | Path) -> list[Path]:
     """Write the rendered PNGs into ``out_dir`` (created if missing), each atomically."""
-    folder = check_output_folder(out_dir)
-    folder.mkdir(parents=True, exist_ok=True)
-    written = []
-    for name, png in figures.pngs.items():
-        with atomic_file(folder / name) as part:
-            part.write_bytes(png)
-        written.append(folder / name)
-    return written
+    folder = ensure_dir(check_output_dir(out_dir))
+    return [write_atomic(folder / name, png) for name, png in figures.pngs.items()]
 
 
 def write_figures(
@@ -121,5 +115,5 @@ def write_figures(
 ) -> list[Path]:
     """Draw the figures and write them into ``out_dir`` (what the demo calls); returns the files
     written (Fig. 2 only with ``excitation``)."""
-    check_output_folder(out_dir)
+    check_output_dir(out_dir)
     return save_figures(render_figures(params, waypoints, excitation, recording), out_dir)

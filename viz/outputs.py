@@ -34,8 +34,8 @@ from urllib.parse import quote
 import rerun as rr
 import rerun.blueprint as rrb
 
+from ..model.files import atomic_path, check_writable
 from .errors import OutputError, VizError
-from .files import atomic_file
 
 APPLICATION_ID = "axisflow_view"
 LOOPBACK = "127.0.0.1"
@@ -64,8 +64,7 @@ def check_rrd_path(path: str | Path) -> Path:
         raise OutputError(f"output {p} is a directory, not a .rrd file")
     if not folder.is_dir():
         raise OutputError(f"output {p}: folder {folder} does not exist")
-    if not os.access(folder, os.W_OK | os.X_OK):
-        raise OutputError(f"output {p}: folder {folder} is not writable")
+    check_writable(folder, f"output {p}: folder {folder} is not writable")
     if p.exists() and not os.access(p, os.W_OK):
         raise OutputError(f"output {p} exists and is not writable")
     return p
@@ -193,14 +192,14 @@ class RerunOutput:
         self.rec = rr.RecordingStream(APPLICATION_ID, recording_id=uuid.uuid4())
         self.web_url: str | None = None
         self._file: Any = None
-        """the open :func:`atomic_file` context of the .rrd"""
+        """the open :func:`atomic_path` context of the .rrd"""
         self._server: subprocess.Popen | None = None
 
     def __enter__(self) -> RerunOutput:
         sinks: list[object] = []
         try:
             if self.output.rrd is not None:
-                self._file = atomic_file(self.output.rrd)
+                self._file = atomic_path(self.output.rrd)
                 sinks.append(rr.FileSink(str(self._file.__enter__())))
             if self.output.spawn:
                 sinks.append(rr.GrpcSink(self._spawn_viewer()))

@@ -14,8 +14,8 @@ from ..arguments import (
     params_from_args,
 )
 from ..experiment import run_offline, table_markdown
-from ..files import check_output_dir, ensure_dir, write_atomic
 from ..model import AxisflowError
+from ..model.files import check_output_dir, ensure_dir, write_atomic
 from ..planner import DEFAULT_OMEGA
 
 

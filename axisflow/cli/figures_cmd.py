@@ -55,11 +55,11 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..model.files import check_output_dir
     from ..viz.figures import render_figures, save_figures
-    from ..viz.files import check_output_folder
 
     params = params_from_args(args)
-    out = check_output_folder(args.out)  # a bad --out fails before the work, not after it
+    out = check_output_dir(args.out)  # a bad --out fails before the work, not after it
     for log in (args.excitation, args.recording):
         if log is not None:
             check_mcap(log)

@@ -6,13 +6,13 @@ import argparse
 import json
 
 from ..arguments import add_params_option, finite_float, params_from_args
-from ..files import check_output_dir
 from ..identification.fit import PARAMETERS
 from ..identification.preparation import PreparationSettings
 from ..identification.refit import DEFAULT_JOINT, DEFAULT_TOPIC, IdentifySettings
 from ..identification.report import report_markdown
 from ..identification.signals import TimeWindow
 from ..identify import identify_to
+from ..model.files import check_output_dir
 
 
 def register(sub: argparse._SubParsersAction) -> None:

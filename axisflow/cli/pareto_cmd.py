@@ -16,8 +16,8 @@ from ..arguments import (
     params_from_args,
 )
 from ..experiment import LAWS, draw_waypoints
-from ..files import check_output_dir, ensure_dir, write_atomic
 from ..model import MoveError
+from ..model.files import check_output_dir, ensure_dir, write_atomic
 from ..planner.pareto import DEFAULT_OMEGAS, check_omegas, sweep, time_optimal_point
 
 

@@ -6,7 +6,7 @@ import argparse
 import json
 
 from ..acquisition.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
-from ..files import check_output_dir, ensure_dir, write_atomic
+from ..model.files import check_output_dir, ensure_dir, write_atomic
 from ..table2 import table_from_recording, table_markdown
 
 

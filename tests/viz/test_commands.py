@@ -104,7 +104,12 @@ def test_bad_view_input_is_one_line_exit_2_and_writes_nothing(tmp_path, test_log
 def test_bad_figure_input_is_one_line_exit_2_and_writes_nothing(tmp_path, capsys):
     (tmp_path / "file").write_text("x")
     for args, message in (
-        (["figures", "--out", str(tmp_path / "file")], "not a folder"),
+        (["figures", "--out", str(tmp_path / "file")], "exists and is not a directory"),
+        # refused before drawing (os.access says yes to root on /proc: the folder is tried, not asked)
+        (
+            ["figures", "--out", "/proc/x"],
+            "output directory /proc/x cannot be created: /proc is not writable",
+        ),
         (
             ["figures", "--out", str(tmp_path / "figs"), "--excitation", str(tmp_path / "no.mcap")],
             "does not exist",

@@ -1,12 +1,16 @@
-"""Writing result files so that a crash or a bad input never leaves a half-written file."""
+"""Writing result files so that a crash or a bad input never leaves a half-written file: output folders
+checked before any work, files written whole or not at all. (In the base layer: every command writes
+results, the views and figures included.)"""
 
 from __future__ import annotations
 
 import os
 import tempfile
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
-from .model import AxisflowError
+from .errors import AxisflowError
 
 
 class OutputError(AxisflowError):
@@ -36,20 +40,20 @@ def check_output_dir(path: str | Path) -> Path:
     if p.exists():
         if not p.is_dir():
             raise OutputError(f"output directory {p} exists and is not a directory")
-        _try_writing(p, f"output directory {p} is not writable")
+        check_writable(p, f"output directory {p} is not writable")
         return p
     ancestor = p.absolute().parent
     while not ancestor.exists():
         ancestor = ancestor.parent
     if not ancestor.is_dir():
         raise OutputError(f"output directory {p} cannot be created: {ancestor} is not a directory")
-    _try_writing(ancestor, f"output directory {p} cannot be created: {ancestor} is not writable")
+    check_writable(ancestor, f"output directory {p} cannot be created: {ancestor} is not writable")
     return p
 
 
-def _try_writing(folder: Path, message: str) -> None:
+def check_writable(folder: Path, message: str) -> None:
     """Make and remove a temporary folder in ``folder``; an :class:`OutputError` with ``message`` and
-    the system's reason if that fails."""
+    the system's reason if that fails (tried, not asked: see :func:`check_output_dir`)."""
     try:
         os.rmdir(tempfile.mkdtemp(prefix=".axisflow-write-test-", dir=folder))
     except OSError as exc:
@@ -62,17 +66,29 @@ def _umask() -> int:
     return mask
 
 
+@contextmanager
+def atomic_path(path: str | Path) -> Iterator[Path]:
+    """A temporary path beside ``path`` to write to (for writers that take a path, e.g. rerun's file
+    sink); renamed onto ``path`` when the block ends normally, removed when it raises — so ``path`` is
+    either the old file or the whole new one."""
+    target = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".part", dir=target.parent)
+    os.close(fd)
+    part = Path(tmp)
+    try:
+        yield part
+        os.chmod(part, 0o666 & ~_umask())  # mkstemp creates 0600; a result file gets the usual mode
+        os.replace(part, target)
+    except BaseException:
+        part.unlink(missing_ok=True)
+        raise
+
+
 def write_atomic(path: str | Path, data: str | bytes) -> Path:
     """Write a whole file via a temporary file in the same directory and an atomic rename."""
-    p = Path(path)
-    mode = "wb" if isinstance(data, bytes) else "w"
-    fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", dir=p.parent)
-    try:
-        os.fchmod(fd, 0o666 & ~_umask())  # mkstemp creates 0600; a result file gets the usual mode
-        with os.fdopen(fd, mode, **({} if isinstance(data, bytes) else {"encoding": "utf-8"})) as fh:
-            fh.write(data)
-        os.replace(tmp, p)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return p
+    with atomic_path(path) as part:
+        if isinstance(data, bytes):
+            part.write_bytes(data)
+        else:
+            part.write_text(data, encoding="utf-8")
+    return Path(path)
