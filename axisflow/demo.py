@@ -45,7 +45,7 @@ from .model import AxisflowError, AxisParams, load_params
 from .model.files import write_atomic
 from .planner import DEFAULT_OMEGA, make_backend
 from .planner_node import NodeRun, NodeSettings, PlannerNode
-from .table2 import RecordedTable, table_from_recording, table_markdown
+from .table2 import RecordedTable, table_from_recording, write_table
 from .waypoints import random_waypoints
 
 DEFAULT_WAYPOINTS = 50
@@ -252,8 +252,7 @@ def _run_experiment(
 
 def _table(out: Path, path: Path, label: str) -> RecordedTable:
     table = table_from_recording(path, label=label)
-    write_atomic(out / f"table2-{label}.json", json.dumps(table.to_json(), indent=1) + "\n")
-    write_atomic(out / f"table2-{label}.md", table_markdown(table, f"Table 2, {label} parameters"))
+    write_table(table, out, f"table2-{label}", f"Table 2, {label} parameters")
     return table
 
 

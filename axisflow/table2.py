@@ -22,6 +22,7 @@ recorded). The table names both below it.
 
 from __future__ import annotations
 
+import json
 import math
 from collections import defaultdict
 from dataclasses import dataclass, field
@@ -43,6 +44,7 @@ from .acquisition import (
     topic_for_key,
 )
 from .model import EXECUTION_PERIOD_S, AxisflowError, EnergyAccounting, trace_energy
+from .model.files import ensure_dir, write_atomic
 from .paper import PAPER_TABLE2, PAPER_WAYPOINTS
 
 
@@ -177,12 +179,37 @@ def table_from_recording(
         statuses[st.sender, st.move_id].setdefault(st.state, st)
     rows = _rows(plans, statuses)
     state = read_joint_states(path, topic_for_key(keys.state))
-    setpoint = read_joint_states(path, topic_for_key(keys.setpoint))
+    signals = _Signals.of(state, read_joint_states(path, topic_for_key(keys.setpoint)))
     for row in rows:
-        _measure(row, state, accounting)
-        row.idle_ticks = _idle_ticks(row, setpoint)
-        row.setpoint_samples_missing = _setpoints_missing(row, setpoint)
+        _measure(row, signals, accounting)
+        row.idle_ticks = _idle_ticks(row, signals)
+        row.setpoint_samples_missing = _setpoints_missing(row, signals)
     return RecordedTable(Path(path), accounting, rows)
+
+
+@dataclass(frozen=True)
+class _Signals:
+    """The recorded columns every row is measured from, sorted by stamp once."""
+
+    stamp_ns: np.ndarray
+    """motor samples' stamps [ns], ascending"""
+    speed: np.ndarray
+    """motor speed ω_m [rad/s], in the order of ``stamp_ns``"""
+    torque: np.ndarray
+    """motor torque τ_m [N·m], in the order of ``stamp_ns``"""
+    setpoint_ns: np.ndarray
+    """setpoint samples' stamps [ns], ascending, repeats kept (each is a sample)"""
+    setpoint_ticks_ns: np.ndarray
+    """the distinct setpoint stamps [ns], ascending (each is a tick)"""
+
+    @classmethod
+    def of(cls, state: JointStateColumns, setpoint: JointStateColumns) -> _Signals:
+        motor = state.joint("motor")
+        order = np.argsort(motor.stamp_ns, kind="stable")
+        stamps = np.sort(setpoint.stamp_ns)
+        return cls(
+            motor.stamp_ns[order], motor.velocity[order], motor.effort[order], stamps, np.unique(stamps)
+        )
 
 
 def _rows(
@@ -200,13 +227,9 @@ def _rows(
     return list(rows.values())
 
 
-def _measure(row: RecordedRow, state: JointStateColumns, accounting: EnergyAccounting) -> None:
+def _measure(row: RecordedRow, signals: _Signals, accounting: EnergyAccounting) -> None:
     """E_exp of each completed move: ∫ g(τ_m·ω_m) dt over its ticks [start, end] (both ends included)."""
-    motor = state.joint("motor")
-    stamps = motor.stamp_ns
-    order = np.argsort(stamps, kind="stable")
-    stamps = stamps[order]
-    speed, torque = motor.velocity[order], motor.effort[order]
+    stamps, speed, torque = signals.stamp_ns, signals.speed, signals.torque
     for move in row.completed:
         acc = move.accepted
         if acc is None:
@@ -218,9 +241,9 @@ def _measure(row: RecordedRow, state: JointStateColumns, accounting: EnergyAccou
             move.energy_measured_j = trace_energy(speed[lo:hi], torque[lo:hi], EXECUTION_PERIOD_S, accounting)
 
 
-def _idle_ticks(row: RecordedRow, setpoint: JointStateColumns) -> list[int]:
+def _idle_ticks(row: RecordedRow, signals: _Signals) -> list[int]:
     """Setpoint samples stamped in [end of move k, start of move k + 1) for consecutive moves."""
-    stamps = np.sort(setpoint.stamp_ns)
+    stamps = signals.setpoint_ns
     idle = []
     for a, b in zip(row.moves, row.moves[1:], strict=False):
         if a.accepted is None or b.accepted is None:
@@ -231,7 +254,7 @@ def _idle_ticks(row: RecordedRow, setpoint: JointStateColumns) -> list[int]:
     return idle
 
 
-def _setpoints_missing(row: RecordedRow, setpoint: JointStateColumns) -> int:
+def _setpoints_missing(row: RecordedRow, signals: _Signals) -> int:
     """Setpoint ticks from the run's first start to its last end with no recorded sample."""
     spans = [(m.accepted.start_tick, m.accepted.end_tick, m.accepted) for m in row.moves if m.accepted]
     if not spans:
@@ -239,9 +262,22 @@ def _setpoints_missing(row: RecordedRow, setpoint: JointStateColumns) -> int:
     first = min(spans, key=lambda s: s[0])
     last = max(spans, key=lambda s: s[1])
     lo, hi = first[2].stamp_of(first[0]), last[2].stamp_of(last[1])
-    stamps = np.unique(setpoint.stamp_ns)
+    stamps = signals.setpoint_ticks_ns
     found = int(np.searchsorted(stamps, hi, "right") - np.searchsorted(stamps, lo, "left"))
     return (last[1] - first[0] + 1) - found
+
+
+def write_table(
+    table: RecordedTable, folder: Path, stem: str = "table2", title: str = ""
+) -> tuple[Path, Path]:
+    """``table`` as ``STEM.json`` (the offline experiment's schema, measured columns filled) and
+    ``STEM.md`` (:func:`table_markdown` with ``title``) in ``folder``, created if needed, each written
+    atomically; returns the two paths."""
+    folder = ensure_dir(folder)
+    return (
+        write_atomic(folder / f"{stem}.json", json.dumps(table.to_json(), indent=1) + "\n"),
+        write_atomic(folder / f"{stem}.md", table_markdown(table, title)),
+    )
 
 
 def table_markdown(table: RecordedTable, title: str = "") -> str:

@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import argparse
-import json
 
 from ..acquisition.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
-from ..model.files import check_output_dir, ensure_dir, write_atomic
-from ..table2 import table_from_recording, table_markdown
+from ..model.files import check_output_dir
+from ..table2 import table_from_recording, write_table
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -31,12 +30,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     out = check_output_dir(args.out)
     table = table_from_recording(args.recording, AxisKeys(args.axis, args.prefix), args.label)
-    data = table.to_json()
-    markdown = table_markdown(table)
-    ensure_dir(out)
-    write_atomic(out / "table2.json", json.dumps(data, indent=1) + "\n")
-    write_atomic(out / "table2.md", markdown)
-    print(json.dumps(data, indent=1) if args.json else markdown, end="" if not args.json else "\n")
+    json_path, md_path = write_table(table, out)
+    print((json_path if args.json else md_path).read_text(), end="")
     if not args.json:
-        print(f"\nwrote {out / 'table2.md'} and {out / 'table2.json'}")
+        print(f"\nwrote {md_path} and {json_path}")
     return 0
