@@ -21,7 +21,7 @@ from scipy.optimize import minimize_scalar
 
 from ..model import AxisParams
 from .fit import FrictionFit
-from .preparation import PreparedLog
+from .preparation import PreparedLog, fit_samples
 
 MAX_DELAY_S = 0.003
 SEARCH_SAMPLES = 20_000
@@ -35,9 +35,8 @@ def estimate_delay(
     total = sum(p.size for p in parts)
     step = max(1, total // SEARCH_SAMPLES)
     chosen = [p[::step] for p in parts]
-    v = np.concatenate([log.velocity_m_s[p] for log, p in zip(logs, chosen, strict=True)])
-    a = np.concatenate([log.acceleration_m_s2[p] for log, p in zip(logs, chosen, strict=True)])
-    problem = FrictionFit(v, a, logs[0].signals.effort_per_force, nominal, fit)
+    base = fit_samples(logs, chosen)  # the force is taken again per delay tried, below
+    problem = FrictionFit(base.velocity_m_s, base.acceleration_m_s2, base.effort_per_force, nominal, fit)
 
     def rms(delay_s: float) -> float:
         force = np.concatenate([log.force_at(p, delay_s) for log, p in zip(logs, chosen, strict=True)])

@@ -200,14 +200,3 @@ def fit_parameters(
         samples.velocity_m_s, samples.acceleration_m_s2, samples.effort_per_force, nominal, fit, max_iter
     )
     return problem.solve(samples.force_n)
-
-
-def effort_error(
-    values: FrictionValues,
-    velocity_m_s: np.ndarray,
-    acceleration_m_s2: np.ndarray,
-    effort: np.ndarray,
-    effort_per_force: float,
-) -> np.ndarray:
-    """Measured minus model effort (N·m for a motor joint, N for a carriage joint)."""
-    return np.asarray(effort) - effort_per_force * values.force_n(velocity_m_s, acceleration_m_s2)

@@ -25,7 +25,7 @@ import numpy as np
 
 from ..model import AxisParams
 from .alignment import estimate_delay
-from .fit import PARAMETERS, FitResult, FrictionFit, FrictionValues, check_fit_names
+from .fit import PARAMETERS, FitResult, FrictionValues, check_fit_names, fit_parameters
 from .preparation import PreparationSettings, PreparedLog, fit_indices, fit_samples, prepare
 from .signals import IdentificationError, JointKind, TimeWindow, joint_kind, load_joint
 from .uncertainty import Uncertainty, estimate_uncertainty
@@ -161,10 +161,7 @@ def identify(
     if delay is None:
         delay = estimate_delay(logs, parts, nominal, s.fit)
     samples = fit_samples(logs, parts, delay)
-    problem = FrictionFit(
-        samples.velocity_m_s, samples.acceleration_m_s2, samples.effort_per_force, nominal, s.fit
-    )
-    result = problem.solve(samples.force_n)
+    result = fit_parameters(samples, nominal, s.fit)
     if not result.success:
         raise IdentificationError(
             f"the SQP did not converge ({result.status}, {result.iterations} iterations)"

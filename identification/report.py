@@ -21,6 +21,7 @@ from typing import Any
 from ..model import params_to_toml
 from .fit import PARAMETER_UNITS
 from .refit import Identification
+from .signals import JointKind
 
 SOLVER_METHOD = "CasADi sqpmethod (qrqp QP steps, Gauss–Newton Hessian)"
 
@@ -94,8 +95,8 @@ def report_json(ident: Identification) -> dict[str, Any]:
 
 def report_markdown(report: dict[str, Any]) -> str:
     """The report for people: parameters with σ, errors refit against nominal, warnings, the log."""
-    unit = "N·m" if report["log"]["joint_kind"] == "motor" else "N"
-    key = "nm" if unit == "N·m" else "n"
+    kind = JointKind(report["log"]["joint_kind"])
+    unit, key = kind.effort_unit, kind.effort_key
     log = report["log"]
     lines = [
         "# Friction refit",
