@@ -27,7 +27,7 @@ from collections.abc import Collection
 import zenoh
 
 from ..model import SampledTrajectory
-from .errors import BridgeLostError, WireError
+from .errors import AcquisitionError, BridgeLostError, WireError
 from .keys import AxisKeys
 from .messages import APPEND, MOVE_TYPE, SAMPLED_LAW, Knots, MoveCommand
 from .move_status import MoveState, MoveStatus
@@ -38,6 +38,9 @@ TERMINAL_STATES = frozenset({MoveState.REJECTED, MoveState.DROPPED, MoveState.ST
 """the states after which a move has nothing more to say"""
 STATUS_BACKLOG = 1 << 16
 """move statuses the sender's subscriber holds before the bridge's publication waits"""
+
+BRIDGE_TIMEOUT_S = 20.0
+"""how long a program waits for the bridge of its axis (its token and its move subscriber) [s]"""
 
 
 class MoveSender:
@@ -115,6 +118,14 @@ class MoveSender:
                         f"{move_id} was waiting to be {' or '.join(s.name.lower() for s in states)}"
                     )
                 time.sleep(poll_s)
+
+    def require_bridge(self, timeout_s: float = BRIDGE_TIMEOUT_S) -> None:
+        """:meth:`wait_for_bridge`, or an :class:`AcquisitionError` saying how to start a bridge."""
+        if not self.wait_for_bridge(timeout_s):
+            raise AcquisitionError(
+                f"no bridge for axis {self.keys.axis!r} answered within {timeout_s:g} s ({self.keys.alive}): "
+                "start `axisflow bridge` first, with the same --axis and Zenoh flags"
+            )
 
     def wait_for_bridge(self, timeout_s: float) -> bool:
         """True once the bridge's liveliness token is seen and the trajectory key has a subscriber.

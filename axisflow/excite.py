@@ -19,14 +19,12 @@ import zenoh
 
 from .acquisition import AxisKeys, MoveCommand, MoveRejectedError, MoveState, MoveStatus
 from .acquisition.axis_state import AxisState
-from .acquisition.move_sender import MoveSender
+from .acquisition.move_sender import BRIDGE_TIMEOUT_S, MoveSender
 from .identification.excitation import ExcitationPlan
 from .identification.signals import TimeWindow
 from .model import AxisflowError, AxisParams, polynomial_law
 from .planner import Case, MoveProblem, solve_exact
 
-BRIDGE_TIMEOUT_S = 20.0
-"""how long to look for the axis's bridge before giving up [s]"""
 _SLACK_S = 60.0
 _SLOWEST_SPEED = 0.05
 """the waits assume the bridge runs at least this fraction of real time"""
@@ -87,11 +85,7 @@ def run_excitation(
     report = ExcitationReport(keys.axis, plan.center_m)
     t0 = time.monotonic()
     with MoveSender(session, keys) as sender, AxisState(session, keys, "setpoint") as setpoint:
-        if not sender.wait_for_bridge(BRIDGE_TIMEOUT_S):
-            raise AxisflowError(
-                f"no bridge for axis {keys.axis!r} answered within {BRIDGE_TIMEOUT_S:g} s ({keys.alive}): "
-                "start `axisflow bridge` first, with the same --axis and Zenoh flags"
-            )
+        sender.require_bridge(BRIDGE_TIMEOUT_S)
         x_now = setpoint.wait(BRIDGE_TIMEOUT_S).position_m
         if abs(x_now - plan.center_m) > 1e-9:
             problem = MoveProblem(x_now, plan.center_m, polynomial_law("poly5"), Case.MIN_TIME)

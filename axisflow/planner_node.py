@@ -38,15 +38,12 @@ import zenoh
 
 from .acquisition import PLAN_TYPE, AxisKeys, MoveCommand, MoveState, MoveStatus, PlanRecord
 from .acquisition.axis_state import AxisState
-from .acquisition.move_sender import MoveSender
+from .acquisition.move_sender import BRIDGE_TIMEOUT_S, MoveSender
 from .acquisition.publisher import SequencedPublisher, Traffic
 from .model import AxisflowError, AxisParams, polynomial_law
 from .planner import Case, ExactBackend, MoveProblem, PlannerBackend, PlanResult
 
-BRIDGE_TIMEOUT_S = 20.0
 _AT_WAYPOINT_M = 1e-9
-_SLOWEST_SPEED = 0.05
-"""the waits assume the bridge runs at least this fraction of real time"""
 
 
 class PlanLateError(AxisflowError):
@@ -153,12 +150,11 @@ class PlannerNode:
         self._sender = MoveSender(self._session, keys)
         self._setpoint = AxisState(self._session, keys, "setpoint")
         self._plans = SequencedPublisher(self._session, keys.plan, PLAN_TYPE, Traffic.COMMAND)
-        if not self._sender.wait_for_bridge(BRIDGE_TIMEOUT_S):
+        try:
+            self._sender.require_bridge(BRIDGE_TIMEOUT_S)
+        except AxisflowError:
             self.__exit__()
-            raise AxisflowError(
-                f"no bridge for axis {keys.axis!r} answered within {BRIDGE_TIMEOUT_S:g} s ({keys.alive}): "
-                "start `axisflow bridge` first, with the same --axis and Zenoh flags"
-            )
+            raise
         return self
 
     def __exit__(self, *_exc: object) -> None:
