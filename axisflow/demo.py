@@ -43,13 +43,13 @@ from .experiment import CASES, LAWS
 from .identification.excitation import design_excitation
 from .model import AxisflowError, AxisParams, load_params
 from .model.files import write_atomic
+from .paper import FIG5_WAYPOINTS
 from .planner import DEFAULT_OMEGA, make_backend
 from .planner_node import NodeRun, NodeSettings, PlannerNode
 from .table2 import RecordedTable, table_from_recording, write_table
 from .waypoints import random_waypoints
 
 DEFAULT_WAYPOINTS = 50
-FIGURE_WAYPOINTS = 25
 """way points of Fig. 5 (the paper's 25)"""
 DEFAULT_LOOKAHEAD = 1
 DEFAULT_LOOKAHEAD_S = 10.0
@@ -85,8 +85,8 @@ class _Children:
     """The bridge and recorder processes: started with the demo's Zenoh endpoint, stopped with SIGINT
     (a clean finish: the recorder writes its summary and footer), killed only if they hang."""
 
-    def __init__(self, out: Path, port: int) -> None:
-        self.out, self.port = out, port
+    def __init__(self, out: Path) -> None:
+        self.out = out
         self.procs: dict[str, subprocess.Popen] = {}
 
     def start(self, name: str, *args: str) -> subprocess.Popen:
@@ -138,7 +138,7 @@ def run_demo(
     t_start = time.monotonic()
     port = _free_port()
     endpoint = f"tcp/127.0.0.1:{port}"
-    children = _Children(out, port)
+    children = _Children(out)
     params_args = ["--params", settings.params_path] if settings.params_path else []
     try:
         progress(f"session folder {out}; bridge (simulated axis, --speed {settings.speed:g}) on {endpoint}")
@@ -185,7 +185,7 @@ def run_demo(
 
         recordings = [out / "excitation.mcap", out / "experiment-nominal.mcap", out / "experiment-refit.mcap"]
         write_session_rrd(recordings, out / "session.rrd", nominal)
-        first = random_waypoints(FIGURE_WAYPOINTS, settings.seed, nominal)
+        first = random_waypoints(FIG5_WAYPOINTS, settings.seed, nominal)
         write_figures(out / "figures", refit, first, excitation=out / "excitation.mcap")
         report.phases_s["pictures"] = time.monotonic() - t0
         progress(f"rerun recording {out / 'session.rrd'}, figures in {out / 'figures'}")

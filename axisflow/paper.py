@@ -29,3 +29,5 @@ PAPER_TABLE2: dict[tuple[str, str], PaperRow] = {
     )
 }
 PAPER_WAYPOINTS = 100
+FIG5_WAYPOINTS = 25
+"""the paper's Fig. 5 shows runs through 25 random way points"""

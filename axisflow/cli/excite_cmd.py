@@ -10,7 +10,7 @@ from ..acquisition.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
 from ..acquisition.zenoh_config import open_session
 from ..arguments import add_params_option, finite_float, params_from_args
 from ..excite import run_excitation
-from ..identification.excitation import DEFAULT_DURATION_S, design_excitation
+from ..identification.excitation import DEFAULT_DURATION_S, DEFAULT_TORQUE_MARGIN, design_excitation
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 
@@ -42,9 +42,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--torque-margin",
         type=finite_float,
-        default=0.8,
+        default=DEFAULT_TORQUE_MARGIN,
         metavar="F",
-        help="largest nominal motor torque of a burst, as a fraction of tau_max (default 0.8)",
+        help="largest nominal motor torque of a burst, as a fraction of tau_max "
+        f"(default {DEFAULT_TORQUE_MARGIN:g})",
     )
     p.add_argument("--plan-only", action="store_true", help="print the bursts and exit (no bridge needed)")
     p.add_argument("--json", action="store_true", help="print one JSON object (no progress lines)")

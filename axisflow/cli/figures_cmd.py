@@ -8,12 +8,10 @@ import sys
 
 from ..acquisition.recording import check_mcap
 from ..arguments import add_params_option, non_negative_int, params_from_args, waypoint_count
+from ..paper import FIG5_WAYPOINTS
 from ..waypoints import random_waypoints
 
 # the figures (matplotlib, the planners, the refit) are imported when the command runs
-
-DEFAULT_WAYPOINTS = 25
-"""the paper's Fig. 5 shows 25 random way points"""
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -44,9 +42,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--waypoints",
         type=waypoint_count,
-        default=DEFAULT_WAYPOINTS,
+        default=FIG5_WAYPOINTS,
         metavar="N",
-        help=f"random way points of Fig. 5 (default {DEFAULT_WAYPOINTS})",
+        help=f"random way points of Fig. 5 (default {FIG5_WAYPOINTS})",
     )
     p.add_argument("--seed", type=non_negative_int, default=0, help="seed of the way points (default 0)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
