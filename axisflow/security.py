@@ -148,6 +148,21 @@ def parse_roles(text: str) -> tuple[str, ...]:
     return names
 
 
+def _check_roles(roles: tuple[str, ...]) -> None:
+    """At least one role, each of a known kind, none twice; else a :class:`SecurityArgumentError`."""
+    if not roles:
+        raise SecurityArgumentError("no role given: at least one of planner, bridge, recorder")
+    for name in roles:
+        role_kind(name)
+    if len(set(roles)) != len(roles):
+        raise SecurityArgumentError(f"roles {', '.join(roles)} name a role more than once")
+
+
+def _check_days(days: int) -> None:
+    if not 1 <= days <= MAX_DAYS:
+        raise SecurityArgumentError(f"validity = {days} days must be in 1…{MAX_DAYS} days")
+
+
 @dataclass(frozen=True)
 class SecurityPlan:
     """What ``axisflow security init`` generates (validated on construction)."""
@@ -168,14 +183,8 @@ class SecurityPlan:
 
     def __post_init__(self) -> None:
         all_keys(self.prefix)  # a KeyExprError naming the prefix
-        if not self.roles:
-            raise SecurityArgumentError("no role given: at least one of planner, bridge, recorder")
-        for name in self.roles:
-            role_kind(name)
-        if len(set(self.roles)) != len(self.roles):
-            raise SecurityArgumentError(f"roles {', '.join(self.roles)} name a role more than once")
-        if not 1 <= self.days <= MAX_DAYS:
-            raise SecurityArgumentError(f"validity = {self.days} days must be in 1…{MAX_DAYS} days")
+        _check_roles(self.roles)
+        _check_days(self.days)
         if not 1 <= self.port <= 65535:
             raise SecurityArgumentError(f"router port = {self.port} must be in 1…65535")
         check_host(self.host, "router host")
@@ -658,12 +667,8 @@ def add_roles(
             f"{directory} does not exist or is not a folder: `security add` needs a folder written by "
             "`axisflow security init`"
         )
-    if not 1 <= days <= MAX_DAYS:
-        raise SecurityArgumentError(f"validity = {days} days must be in 1…{MAX_DAYS} days")
-    for name in roles:
-        role_kind(name)
-    if len(set(roles)) != len(roles) or not roles:
-        raise SecurityArgumentError(f"roles {', '.join(roles) or '(none)'}: name each new role once")
+    _check_days(days)
+    _check_roles(roles)
     router = _read_json5(d / f"{ROUTER}.json5")
     prefix, existing = _folder_acl(router, d / f"{ROUTER}.json5")
     for name in roles:

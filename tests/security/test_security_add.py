@@ -77,7 +77,12 @@ def _hand_edit(out: Path) -> None:
     [
         (("recorder",), None, SecurityError, r"role 'recorder' is already in .*: not reissuing it"),
         (("pilot",), None, SecurityArgumentError, "role 'pilot' is not one of planner, bridge, recorder"),
-        (("bridge-2", "bridge-2"), None, SecurityArgumentError, "name each new role once"),
+        (
+            ("bridge-2", "bridge-2"),
+            None,
+            SecurityArgumentError,
+            "roles bridge-2, bridge-2 name a role more than once",
+        ),
         (("bridge-2",), lambda d: (d / "ca.key").unlink(), SecurityError, r"ca.key is missing: .*offline"),
         (("bridge-2",), _hand_edit, SecurityError, "not one `axisflow security init` wrote: edited by hand"),
         (
