@@ -16,17 +16,14 @@ from pathlib import Path
 import numpy as np
 
 from ..identification.refit import EffortTrace
+from .png import pyplot
 
 MAX_POINTS = 20_000
 
 
 def identification_png(traces: Sequence[EffortTrace], title: str = "") -> bytes:
     """The figure as PNG bytes (written atomically by the caller); one column of two panels per trace."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = pyplot()
     n = len(traces)
     fig, axes = plt.subplots(2, n, figsize=(11 * n, 6.5), sharex="col", squeeze=False,
                              gridspec_kw={"height_ratios": [2, 1]})  # fmt: skip
@@ -59,6 +56,8 @@ def identification_png(traces: Sequence[EffortTrace], title: str = "") -> bytes:
     fig.text(0.01, 0.01, "grey: samples left out of the fit (stationary, saturated, edges)", fontsize=8)
     fig.tight_layout()
     png = io.BytesIO()
-    fig.savefig(png, format="png", dpi=110)
-    plt.close(fig)
+    try:
+        fig.savefig(png, format="png", dpi=110)
+    finally:
+        plt.close(fig)
     return png.getvalue()
