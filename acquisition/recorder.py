@@ -211,7 +211,6 @@ class Recorder:
         self._file_index = 0
         self._writer: Ros2McapWriter | None = None
         self._file_started = 0.0
-        self._last_seq: dict[tuple[str, bytes], int] = {}
         self._latency = DurationHistogram()
         self.ready = threading.Event()
         """set once the subscriber is declared"""
@@ -255,14 +254,12 @@ class Recorder:
         parsed = unpack_attachment(att.to_bytes()) if att is not None else None
         if parsed is not None:
             seq, stamp, gid = parsed
-            last = self._last_seq.get((topic, gid))
-            if last is not None and seq > last + 1:
-                stats.missed += seq - last - 1
-            self._last_seq[(topic, gid)] = seq
-            span = stats.publishers.get(gid)
+            span = stats.publishers.get(gid)  # [first, last, count] of this publisher's sequence numbers
             if span is None:
                 stats.publishers[gid] = [seq, seq, 1]
             else:
+                if seq > span[1] + 1:
+                    stats.missed += seq - span[1] - 1
                 span[1] = seq
                 span[2] += 1
             if abs(now - stamp) <= LIVE_STAMP_WINDOW_NS:
