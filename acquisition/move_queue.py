@@ -177,6 +177,10 @@ class QueueStep:
     finished: tuple[QueuedMove, ...]
 
 
+def _knot_count(q: QueuedMove) -> int:
+    return len(q.command.knots) if q.command.knots is not None else 0
+
+
 class MoveQueue:
     """Validated moves in execution order and the hold position after them."""
 
@@ -195,6 +199,9 @@ class MoveQueue:
         self.jump_tolerance_m = jump_tolerance_m
         self._start_ns = start_stamp_ns
         self._queue: deque[QueuedMove] = deque()
+        self._knots = 0
+        """knots of the queued sampled moves, kept as moves enter and leave (summing them on every
+        enqueue cost ~0.14 ms with 1024 sampled moves queued, on the 1 kHz loop)"""
         self._hold_m = hold_position_m
         self.completed = 0
         self._head_started = False
@@ -211,7 +218,16 @@ class MoveQueue:
     @property
     def queued_knots(self) -> int:
         """Knots of the queued sampled moves (the running one included)."""
-        return sum(len(q.command.knots) for q in self._queue if q.command.knots is not None)
+        return self._knots
+
+    def _append(self, q: QueuedMove) -> None:
+        self._queue.append(q)
+        self._knots += _knot_count(q)
+
+    def _removed(self, q: QueuedMove) -> QueuedMove:
+        """``q``, just taken out of the queue (its knots no longer count)."""
+        self._knots -= _knot_count(q)
+        return q
 
     def end_tick(self, now_tick: int) -> int:
         return max(self._queue[-1].end_tick, now_tick) if self._queue else now_tick
@@ -258,7 +274,7 @@ class MoveQueue:
                     "/ the current drive time (use start 0 to append)"
                 )
         queued = QueuedMove(cmd, move, start_tick, start_tick + move_ticks(move.duration_s), sender)
-        self._queue.append(queued)
+        self._append(queued)
         return queued
 
     def submit(self, cmd: MoveCommand, now_tick: int, sender: bytes = b"") -> QueuedMove:
@@ -272,7 +288,7 @@ class MoveQueue:
             if q.sender == sender and q.start_tick >= now_tick:
                 dropped = []
                 while len(self._queue) > i:
-                    dropped.append(self._queue.pop())
+                    dropped.append(self._removed(self._queue.pop()))
                 return dropped[::-1]
         return []
 
@@ -285,9 +301,10 @@ class MoveQueue:
         sooner and no farther, which then runs to its end."""
         running = None
         if self._queue and self._head_started and self._queue[0].start_tick < tick:
-            running = self._queue.popleft()
+            running = self._removed(self._queue.popleft())
         dropped = list(self._queue)
         self._queue.clear()
+        self._knots = 0
         if running is None:
             self._head_started = False
             return StopOutcome(tick, None, None, dropped, None, 0.0)
@@ -296,7 +313,7 @@ class MoveQueue:
         profile = stop_profile(x, v, self.params, force_fraction)
         left_s = (running.end_tick - tick) * EXECUTION_PERIOD_S
         if profile.time_s >= left_s or profile.distance_m > abs(running.move.x1_m - x):
-            self._queue.append(running)
+            self._append(running)
             return StopOutcome(tick, None, running, dropped, None, v)
         traj = profile.trajectory
         knots = Knots.of(traj)
@@ -304,7 +321,7 @@ class MoveQueue:
             0, self.axis, STOP_MOVE_ID, APPEND, SAMPLED_LAW, traj.x0_m, traj.x1_m, traj.duration_s, knots
         )
         braking = QueuedMove(cmd, traj, tick, tick + move_ticks(traj.duration_s), sender, profile)
-        self._queue.append(braking)
+        self._append(braking)
         self._head_started = True  # it continues the running move's course at this very tick
         return StopOutcome(tick, running, None, dropped, braking, v)
 
@@ -313,7 +330,7 @@ class MoveQueue:
         moves that ended (their end tick reached) and the move that started at this tick."""
         finished = []
         while self._queue and tick >= self._queue[0].end_tick:
-            done = self._queue.popleft()
+            done = self._removed(self._queue.popleft())
             self._hold_m = done.move.x1_m
             if done.stop is None:
                 self.completed += 1

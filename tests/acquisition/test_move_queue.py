@@ -160,3 +160,16 @@ def test_sampled_moves_fill_the_queue_to_its_knot_budget_and_no_further(monkeypa
     assert queue.queued_knots == len(t)
     later = queue.submit(_sampled(*_cosine(0.3, 0.1, 1.0, 2)), first.end_tick)  # fits the budget now
     assert queue.queued_knots == 2 * len(t) and later.start_tick > first.end_tick
+    # the count is kept as moves leave: a dropped sender's moves, a quick stop's abandoned queue
+    now = first.end_tick + 10  # the second sampled move runs
+    queue.advance(now)
+    queue.drop_sender(b"", now)  # drops the polynomial move and the later sampled one
+    assert queue.queued_knots == len(t) == _knots_in(queue)
+    stop = queue.quick_stop(now + 500)  # brakes the running sampled move with a sampled profile
+    assert stop.braking is not None and queue.queued_knots == len(stop.braking.command.knots)
+    assert queue.queued_knots == _knots_in(queue)
+
+
+def _knots_in(queue: MoveQueue) -> int:
+    """The knots of the moves in the queue, counted from scratch."""
+    return sum(len(q.command.knots) for q in queue._queue if q.command.knots is not None)
