@@ -63,16 +63,14 @@ import lz4.frame
 import numpy as np
 import zstandard
 from mcap.data_stream import ReadDataStream
-from mcap.exceptions import McapError
 from mcap.opcode import Opcode
-from mcap.reader import make_reader
 from mcap.records import Channel, Schema
 from mcap.summary import Summary
 
 from .errors import RecordingError, WireError
 from .joint_state_layout import DecodedJointStates, JointStateLayout
 from .messages import JOINT_STATE_TYPE, JointState
-from .recording import MCAP_MAGIC, check_mcap
+from .recording import MCAP_MAGIC, check_mcap, read_summary
 
 RECORD_PREFIX = struct.Struct("<BQ")
 """opcode u8, body length u64: the start of every MCAP record"""
@@ -223,15 +221,6 @@ class _Catalog:
             previous = merged.get(key, 0)
             merged[key] = None if count is None or previous is None else previous + count
         return [TopicInfo(*key, count) for key, count in sorted(merged.items())]
-
-
-def _read_summary(fh: BinaryIO) -> tuple[bool, Summary | None]:
-    """(the file has a readable footer, its summary or None), through mcap's seeking reader."""
-    try:
-        summary = make_reader(fh).get_summary()
-    except (McapError, OSError, ValueError, EOFError, struct.error):
-        return False, None
-    return True, summary
 
 
 def _parse_record(cls: type[Schema] | type[Channel], body: bytes) -> Schema | Channel:
@@ -686,7 +675,7 @@ def read_messages(path: str | Path, topic: str, type_name: str | None = None) ->
     """
     p = check_mcap(path)
     with open(p, "rb") as fh:
-        has_footer, summary = _read_summary(fh)
+        has_footer, summary = read_summary(fh)
         catalog = _Catalog(summary)
         reader = _PayloadRead(p, topic, catalog, type_name)
         scan = _LogScan(fh, p, catalog, has_footer)
@@ -847,7 +836,7 @@ def list_topics(path: str | Path) -> list[TopicInfo]:
     """
     p = check_mcap(path)
     with open(p, "rb") as fh:
-        has_footer, summary = _read_summary(fh)
+        has_footer, summary = read_summary(fh)
         catalog = _Catalog(summary)
         if summary is not None and summary.channels:
             stats = summary.statistics
@@ -879,7 +868,7 @@ def read_joint_states(
     """
     p = check_mcap(path)
     with open(p, "rb") as fh:
-        has_footer, summary = _read_summary(fh)
+        has_footer, summary = read_summary(fh)
         catalog = _Catalog(summary)
         reader = _TopicRead(p, topic, catalog, start_ns, end_ns, per_message)
         if summary is not None and summary.channels:

@@ -13,11 +13,13 @@ import struct
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import BinaryIO
 
 from mcap.exceptions import McapError
 from mcap.reader import make_reader
 from mcap.records import Channel, Message, Schema
 from mcap.stream_reader import StreamReader
+from mcap.summary import Summary
 
 from .errors import RecordingError
 
@@ -49,14 +51,22 @@ def check_mcap(path: str | Path) -> Path:
     return p
 
 
+def read_summary(fh: BinaryIO) -> tuple[bool, Summary | None]:
+    """(the file has a readable footer, its summary or None), through mcap's seeking reader."""
+    try:
+        summary = make_reader(fh).get_summary()
+    except (McapError, OSError, ValueError, EOFError, struct.error):
+        return False, None
+    return True, summary
+
+
 def is_complete(path: str | Path) -> bool:
     """True if the file has a readable summary/footer (what a clean finish writes)."""
     try:
         with open(path, "rb") as fh:
-            make_reader(fh).get_summary()
-    except (McapError, OSError, ValueError, EOFError, struct.error):
+            return read_summary(fh)[0]
+    except OSError:
         return False
-    return True
 
 
 def iter_recording(path: str | Path, complete_only: bool = False) -> Iterator[RecordedMessage]:
