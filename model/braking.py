@@ -55,13 +55,14 @@ def stop_profile(x0_m: float, v0_m_s: float, params: AxisParams, force_fraction:
     v = abs(v0_m_s)
     dt = EXECUTION_PERIOD_S
     ts, xs, vs = [0.0], [0.0], [v]
+    accs: list[float] = []
+    """v̇ at each knot but the last (the first stage of the step from it)"""
 
     def acc(speed: float) -> float:
         return braking_acceleration(speed, params, force_fraction)
 
-    def rk4(v: float, h: float) -> tuple[float, float]:
-        """(Δv, Δx) of one classical Runge–Kutta step of length h from speed v."""
-        k1 = acc(v)
+    def rk4(v: float, k1: float, h: float) -> tuple[float, float]:
+        """(Δv, Δx) of one classical Runge–Kutta step of length h from speed v, where v̇ = k1."""
         k2 = acc(max(v + 0.5 * h * k1, 0.0))
         k3 = acc(max(v + 0.5 * h * k2, 0.0))
         k4 = acc(max(v + h * k3, 0.0))
@@ -73,24 +74,25 @@ def stop_profile(x0_m: float, v0_m_s: float, params: AxisParams, force_fraction:
         if len(ts) > _MAX_STEPS:  # pragma: no cover - a stop from v_max takes well under a second
             raise MoveError(f"a stop from {v0_m_s} m/s does not end within {_MAX_STEPS} ms")
         v, x = vs[-1], xs[-1]
-        dv, dx = rk4(v, dt)
+        k1 = acc(v)
+        accs.append(k1)
+        dv, dx = rk4(v, k1, dt)
         h = dt
         if v + dv <= 0.0:  # the last, shorter step: the one that ends exactly at rest (bisection)
             lo, hi = 0.0, dt
             for _ in range(60):
                 h = 0.5 * (lo + hi)
-                dv, dx = rk4(v, h)
+                dv, dx = rk4(v, k1, h)
                 lo, hi = (h, hi) if v + dv > 0.0 else (lo, h)
             h = hi
-            dv, dx = -v, rk4(v, h)[1]
+            dv, dx = -v, rk4(v, k1, h)[1]
         vs.append(max(v + dv, 0.0))
         xs.append(x + dx)
         ts.append(ts[-1] + h)
     t = np.array(ts)
     x = x0_m + direction * np.array(xs)
     vel = direction * np.array(vs)
-    a = np.array([direction * acc(s) for s in vs])
+    a = np.array([*(direction * k for k in accs), 0.0])  # at rest the drive holds: no braking force
     if len(t) == 1:  # at rest already: a single tick of rest
         t, x, vel, a = np.array([0.0, dt]), np.array([x0_m, x0_m]), np.zeros(2), np.zeros(2)
-    a[-1] = 0.0  # at rest the drive holds: no braking force left
     return StopProfile(SampledTrajectory(t, x, vel, a, from_rest=False), float(xs[-1]), float(t[-1]))
