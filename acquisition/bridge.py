@@ -287,14 +287,11 @@ class Bridge:
             self._alive.discard(gid)
             self._gone.add(gid)
             dropped = self._queue.drop_sender(gid, self.tick)
-            for q in dropped:
-                self._status(
-                    MoveState.DROPPED,
-                    q,
-                    f"dropped move {q.command.move_id}: sender {gid.hex()} disappeared (its moves that had "
-                    "not started, and every move queued after the first of them, are dropped)",
-                )
-            self.report.moves_dropped += len(dropped)
+            self._dropped(
+                dropped,
+                f"sender {gid.hex()} disappeared (its moves that had not started, and every move queued "
+                "after the first of them, are dropped)",
+            )
             if dropped:
                 log.warning("sender %s disappeared: dropped %d queued moves", gid.hex(), len(dropped))
 
@@ -357,9 +354,7 @@ class Bridge:
                 self._reject(received, "a quick stop was requested before it was queued")
             self._pending.clear()
             outcome = self._queue.quick_stop(self.tick, sender)
-            for q in outcome.dropped:
-                self._status(MoveState.DROPPED, q, f"dropped move {q.command.move_id}: quick stop")
-            self.report.moves_dropped += len(outcome.dropped)
+            self._dropped(outcome.dropped, "quick stop")
             if outcome.interrupted is not None:
                 q = outcome.interrupted
                 self._status(
@@ -392,6 +387,12 @@ class Bridge:
         )
 
     # ---- move status ------------------------------------------------------------------------------
+    def _dropped(self, moves: list[QueuedMove], why: str) -> None:
+        """A DROPPED status for each of ``moves`` (taken out of the queue), saying ``why``; counted."""
+        for q in moves:
+            self._status(MoveState.DROPPED, q, f"dropped move {q.command.move_id}: {why}")
+        self.report.moves_dropped += len(moves)
+
     def _status(self, state: MoveState, q: QueuedMove, text: str) -> None:
         self._publish(MoveStatus(self._stamp(), self.keys.axis, state, q.command.move_id, self.tick,
                                  q.start_tick, q.end_tick, q.sender.hex(), text))  # fmt: skip
