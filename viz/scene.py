@@ -109,43 +109,14 @@ def log_limits(rec: rr.RecordingStream, e: AxisEntities, params: AxisParams, sta
         send_scalars(rec, path, stamps, np.array([[high, low]] * len(stamps)))
 
 
-def log_position(
-    rec: rr.RecordingStream,
-    e: AxisEntities,
-    measured: AxisSamples | None = None,
-    setpoint: AxisSamples | None = None,
+def log_signals(
+    rec: rr.RecordingStream, samples: AxisSamples, position: str, velocity: str, torque: str
 ) -> None:
-    """Carriage position x [m], measured and commanded."""
-    if measured is not None:
-        send_scalars(rec, e.position_measured, measured.stamp_ns, measured.position_m)
-    if setpoint is not None:
-        send_scalars(rec, e.position_setpoint, setpoint.stamp_ns, setpoint.position_m)
-
-
-def log_velocity(
-    rec: rr.RecordingStream,
-    e: AxisEntities,
-    measured: AxisSamples | None = None,
-    setpoint: AxisSamples | None = None,
-) -> None:
-    """Cart velocity ẋ [m/s], the drive's estimate and the commanded one."""
-    if measured is not None:
-        send_scalars(rec, e.velocity_measured, measured.stamp_ns, measured.velocity_m_s)
-    if setpoint is not None:
-        send_scalars(rec, e.velocity_setpoint, setpoint.stamp_ns, setpoint.velocity_m_s)
-
-
-def log_torque(
-    rec: rr.RecordingStream,
-    e: AxisEntities,
-    measured: AxisSamples | None = None,
-    setpoint: AxisSamples | None = None,
-) -> None:
-    """Motor torque τ_m [N·m] measured, and the setpoint's model feed-forward τ_ff (eq. 1)."""
-    if measured is not None:
-        send_scalars(rec, e.torque_measured, measured.stamp_ns, measured.torque_nm)
-    if setpoint is not None:
-        send_scalars(rec, e.torque_feedforward, setpoint.stamp_ns, setpoint.torque_nm)
+    """Carriage position x [m], cart velocity ẋ [m/s] and motor torque [N·m] of ``samples`` on the three
+    entity paths (the measured ones, or the setpoint's with its model feed-forward τ_ff of eq. 1)."""
+    send_scalars(rec, position, samples.stamp_ns, samples.position_m)
+    send_scalars(rec, velocity, samples.stamp_ns, samples.velocity_m_s)
+    send_scalars(rec, torque, samples.stamp_ns, samples.torque_nm)
 
 
 def log_tracking_error(
@@ -206,9 +177,7 @@ class AxisScene:
         if not len(samples):
             return
         e = self.entities
-        log_position(self.rec, e, measured=samples)
-        log_velocity(self.rec, e, measured=samples)
-        log_torque(self.rec, e, measured=samples)
+        log_signals(self.rec, samples, e.position_measured, e.velocity_measured, e.torque_measured)
         log_power(self.rec, e, samples)
         log_tracking_error(self.rec, e, *self._tracking.push(state=(samples.stamp_ns, samples.position_m)))
         log_move_points(self.rec, e, self._moves.add_samples(samples))
@@ -219,9 +188,7 @@ class AxisScene:
         if not len(samples):
             return
         e = self.entities
-        log_position(self.rec, e, setpoint=samples)
-        log_velocity(self.rec, e, setpoint=samples)
-        log_torque(self.rec, e, setpoint=samples)
+        log_signals(self.rec, samples, e.position_setpoint, e.velocity_setpoint, e.torque_feedforward)
         log_tracking_error(self.rec, e, *self._tracking.push(setpoint=(samples.stamp_ns, samples.position_m)))
         self._extend_limits(samples.stamp_ns)
 
