@@ -42,17 +42,29 @@ class AxisSamples:
     def of_columns(cls, columns: JointStateColumns) -> AxisSamples:
         """The carriage and motor columns of a topic read by
         :func:`~axisflow.acquisition.log_reader.read_joint_states` (rows in file order)."""
-        carriage, motor = (
-            _joint(columns.joint_names, CARRIAGE_JOINT, columns.topic),
-            _joint(columns.joint_names, MOTOR_JOINT, columns.topic),
-        )
-        return cls(
+        return cls.of_joints(
             columns.stamp_ns,
-            columns.position[:, carriage],
-            columns.velocity[:, carriage],
-            columns.effort[:, motor],
-            columns.velocity[:, motor],
+            columns.position,
+            columns.velocity,
+            columns.effort,
+            columns.joint_names,
+            columns.topic,
         )
+
+    @classmethod
+    def of_joints(
+        cls,
+        stamp_ns: np.ndarray,
+        position: np.ndarray,
+        velocity: np.ndarray,
+        effort: np.ndarray,
+        names: Sequence[str],
+        where: str,
+    ) -> AxisSamples:
+        """The axis's columns out of rows × joints arrays whose joints are ``names`` (a
+        :class:`VizError` naming ``where`` if the carriage or the motor joint is missing)."""
+        c, m = _joint(names, CARRIAGE_JOINT, where), _joint(names, MOTOR_JOINT, where)
+        return cls(stamp_ns, position[:, c], velocity[:, c], effort[:, m], velocity[:, m])
 
     @classmethod
     def concatenate(cls, parts: Sequence[AxisSamples]) -> AxisSamples:
@@ -79,6 +91,12 @@ def _joint(names: Sequence[str], joint: str, where: str) -> int:
     return list(names).index(joint)
 
 
+def _of_layout(layout: JointStateLayout, rows: np.ndarray, where: str) -> AxisSamples:
+    """The samples of payload ``rows`` of one fixed ``layout``."""
+    d = layout.decode(rows)
+    return AxisSamples.of_joints(d.stamp_ns, d.position, d.velocity, d.effort, layout.joint_names, where)
+
+
 def _decode_one_layout(payloads: Sequence[bytes], where: str) -> AxisSamples | None:
     """The usual case at once — every payload of one layout (one publisher) — or None."""
     if not payloads or len({len(p) for p in payloads}) != 1:
@@ -87,16 +105,7 @@ def _decode_one_layout(payloads: Sequence[bytes], where: str) -> AxisSamples | N
     layout = JointStateLayout.of(payloads[0])
     if layout is None or not layout.matches(rows):
         return None
-    decoded = layout.decode(rows)
-    c = _joint(layout.joint_names, CARRIAGE_JOINT, where)
-    m = _joint(layout.joint_names, MOTOR_JOINT, where)
-    return AxisSamples(
-        decoded.stamp_ns,
-        decoded.position[:, c],
-        decoded.velocity[:, c],
-        decoded.effort[:, m],
-        decoded.velocity[:, m],
-    )
+    return _of_layout(layout, rows, where)
 
 
 def decode_payloads(payloads: Sequence[bytes], where: str) -> AxisSamples:
@@ -121,14 +130,10 @@ def decode_payloads(payloads: Sequence[bytes], where: str) -> AxisSamples:
         rows = np.frombuffer(b"".join(payloads[i] for i in rows_at), dtype=np.uint8).reshape(-1, size)
         layout = JointStateLayout.of(payloads[rows_at[0]])
         if layout is not None and layout.matches(rows):
-            decoded = layout.decode(rows)
-            c = _joint(layout.joint_names, CARRIAGE_JOINT, where)
-            m = _joint(layout.joint_names, MOTOR_JOINT, where)
-            stamp[index] = decoded.stamp_ns
-            out["position_m"][index] = decoded.position[:, c]
-            out["velocity_m_s"][index] = decoded.velocity[:, c]
-            out["torque_nm"][index] = decoded.effort[:, m]
-            out["motor_speed_rad_s"][index] = decoded.velocity[:, m]
+            part = _of_layout(layout, rows, where)
+            stamp[index] = part.stamp_ns
+            for f in _FIELDS[1:]:
+                out[f][index] = getattr(part, f)
             continue
         for i in rows_at:
             message = JointState.decode(payloads[i])
