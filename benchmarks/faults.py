@@ -56,6 +56,7 @@ from axisflow.acquisition import (
     open_session,
     read_joint_states,
 )
+from axisflow.benchmarks.pipeline import free_port
 from axisflow.model import AxisflowError, AxisParams, default_params, stop_profile
 
 CLI = [sys.executable, "-c", "import sys; from axisflow.cli import main; sys.exit(main())"]
@@ -186,12 +187,6 @@ class Fleet:
             if proc.poll() is None:
                 proc.kill()
                 proc.wait()
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def _listens(port: int) -> bool:

@@ -89,6 +89,28 @@ def _payload_template(axis: str) -> bytearray:
     return bytearray(AxisSample(0, axis, 0.4, 0.1, 12.0, 133.0, 33.0, 0.05).encode())
 
 
+def play(pubs: list, templates: list[bytearray], n_ticks: int, paced: bool) -> tuple[float, int]:
+    """Publish ``templates[i]`` on ``pubs[i]`` every tick, each stamped with the wall clock (only the
+    stamp patched into the pre-encoded JointState); at 1 kHz if ``paced``, else as fast as possible.
+    Returns the wall time [s] and the ticks started more than 2 ms late."""
+    late = 0
+    t0 = time.monotonic_ns()
+    for k in range(n_ticks):
+        if paced:
+            deadline = t0 + k * 1_000_000
+            now = time.monotonic_ns()
+            if deadline > now:
+                time.sleep((deadline - now) * 1e-9)
+            elif now - deadline > 2_000_000:
+                late += 1
+        stamp = time.time_ns()
+        sec_ns = divmod(stamp, 1_000_000_000)
+        for pub, buf in zip(pubs, templates, strict=True):
+            _STAMP.pack_into(buf, 4, *sec_ns)
+            pub.put(bytes(buf), stamp)
+    return (time.monotonic_ns() - t0) * 1e-9, late
+
+
 def publisher_main() -> None:
     """Entry of the publisher process: ``PORT AXES SECONDS SPEED``; prints one JSON line."""
     from axisflow.acquisition import ZenohOptions, open_session
@@ -104,21 +126,7 @@ def publisher_main() -> None:
         templates = [_payload_template(f"bench{i}") for i in range(n_axes)]
         matched = wait_for_subscribers(pubs, 15.0)
         n_ticks = round(seconds * 1000)
-        late = 0
-        t0 = time.monotonic_ns()
-        for k in range(n_ticks):
-            if speed > 0:
-                deadline = t0 + k * 1_000_000
-                now = time.monotonic_ns()
-                if deadline > now:
-                    time.sleep((deadline - now) * 1e-9)
-                elif now - deadline > 2_000_000:
-                    late += 1
-            stamp = time.time_ns()
-            for pub, buf in zip(pubs, templates, strict=True):
-                _STAMP.pack_into(buf, 4, *divmod(stamp, 1_000_000_000))
-                pub.put(bytes(buf), stamp)
-        wall = (time.monotonic_ns() - t0) * 1e-9
+        wall, late = play(pubs, templates, n_ticks, paced=speed > 0)
         for pub in pubs:
             pub.undeclare()
     print(
@@ -129,7 +137,7 @@ def publisher_main() -> None:
 # --------------------------------------------------------------------------- helpers
 
 
-def _free_port() -> int:
+def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
@@ -178,7 +186,7 @@ def _analyse(path: Path) -> dict[str, object]:
 
 def _run_step(tmp: Path, n_axes: int, seconds: float, speed: float = 1.0, sample_rss: bool = False) -> dict:
     """One recorder + one publisher process; returns the step's figures."""
-    port = _free_port()
+    port = free_port()
     out = tmp / f"bench_{n_axes}_{speed:g}_{time.monotonic_ns()}.mcap"
     env = {**os.environ, "RUST_LOG": "error"}
     rec = subprocess.Popen(

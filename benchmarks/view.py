@@ -25,14 +25,13 @@ import json
 import os
 import signal
 import socket
-import struct
 import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
 
-from .pipeline import axis_counts
+from .pipeline import axis_counts, free_port, play
 from .synthetic_log import SyntheticLogSpec, write_synthetic_log
 
 GOAL_HOUR_S = 10.0
@@ -41,7 +40,6 @@ GOAL_LIVE_AXES = 8
 """the live goal holds at this many axes; other counts in ``--axes`` are measured, not judged"""
 CLI = [sys.executable, "-c", "import sys; from axisflow.cli import main; sys.exit(main())"]
 PUBLISHER = [sys.executable, "-c", "from axisflow.benchmarks.view import publisher_main; publisher_main()"]
-_STAMP = struct.Struct("<iI")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -85,21 +83,7 @@ def publisher_main() -> None:
                 )
         matched = wait_for_subscribers(pubs, 15.0)
         n_ticks = round(seconds * 1000)
-        late = 0
-        t0 = time.monotonic_ns()
-        for k in range(n_ticks):
-            deadline = t0 + k * 1_000_000
-            now = time.monotonic_ns()
-            if deadline > now:
-                time.sleep((deadline - now) * 1e-9)
-            elif now - deadline > 2_000_000:
-                late += 1
-            stamp = time.time_ns()
-            sec_ns = divmod(stamp, 1_000_000_000)
-            for pub, buf in zip(pubs, templates, strict=True):
-                _STAMP.pack_into(buf, 4, *sec_ns)
-                pub.put(bytes(buf), stamp)
-        wall = (time.monotonic_ns() - t0) * 1e-9
+        wall, late = play(pubs, templates, n_ticks, paced=True)
         for pub in pubs:
             pub.undeclare()
     print(
@@ -117,12 +101,6 @@ def publisher_main() -> None:
 
 
 # --------------------------------------------------------------------------- helpers
-
-
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def _wait4(cmd: list[str], env: dict[str, str] | None = None) -> dict:
@@ -217,7 +195,7 @@ def _log_steps(args: argparse.Namespace, tmp: Path, result: dict) -> None:
 
 
 def _live_step(args: argparse.Namespace, tmp: Path, n_axes: int) -> dict:
-    port = _free_port()
+    port = free_port()
     rrd = tmp / f"live_{n_axes}.rrd"
     env = {**os.environ, "CI": "1", "RUST_LOG": "error"}
     view = subprocess.Popen(
