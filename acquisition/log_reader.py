@@ -443,7 +443,35 @@ class _ColumnBuilder:
 # ---- reading one topic -----------------------------------------------------------------------------
 
 
-class _TopicRead:
+class _ChannelReader:
+    """What the scan hands a topic's messages to: the topic's channel ids among the channels learnt so
+    far, each checked by :meth:`check_channel` once (recomputed only when the catalogue grew), and
+    :meth:`decode` for a batch of its message records."""
+
+    def __init__(self, path: Path, topic: str, catalog: _Catalog) -> None:
+        self.path, self.topic, self.catalog = path, topic, catalog
+        self._wanted: set[int] = set()
+        self._catalog_version = -1
+
+    def wanted_ids(self) -> set[int]:
+        """The channel ids of the topic among the known channels (each checked)."""
+        if self._catalog_version != self.catalog.version:
+            self._catalog_version = self.catalog.version
+            for cid, channel in self.catalog.channels.items():
+                if channel.topic == self.topic and cid not in self._wanted:
+                    self.check_channel(channel)
+                    self._wanted.add(cid)
+        return self._wanted
+
+    def check_channel(self, channel: Channel) -> None:
+        """A :class:`RecordingError` if the topic's ``channel`` cannot be read here."""
+
+    def decode(self, buffer: bytes, offsets: np.ndarray, where: str) -> None:
+        """Take the message records at ``offsets`` of ``buffer``."""
+        raise NotImplementedError
+
+
+class _TopicRead(_ChannelReader):
     """Decodes the messages of one topic, batch by batch (a chunk, or messages outside chunks)."""
 
     def __init__(
@@ -455,11 +483,9 @@ class _TopicRead:
         end_ns: int | None,
         per_message: bool,
     ) -> None:
-        self.path, self.topic, self.catalog = path, topic, catalog
+        super().__init__(path, topic, catalog)
         self.start_ns, self.end_ns = start_ns, end_ns
         self.per_message = per_message
-        self._wanted: set[int] = set()
-        self._catalog_version = -1
         self.joint_names: tuple[str, ...] | None = None
         self.frame_ids: dict[str, None] = {}
         self.decoded = {"vectorised": 0, "per_message": 0}
@@ -471,17 +497,8 @@ class _TopicRead:
         if self.builder.n == 0:
             self.builder = _ColumnBuilder(rows)
 
-    def wanted_ids(self) -> set[int]:
-        """The channel ids of the topic among the known channels (each checked to be JointState)."""
-        if self._catalog_version != self.catalog.version:
-            self._catalog_version = self.catalog.version
-            for cid, channel in self.catalog.channels.items():
-                if channel.topic == self.topic and cid not in self._wanted:
-                    self._check_channel(channel)
-                    self._wanted.add(cid)
-        return self._wanted
-
-    def _check_channel(self, channel: Channel) -> None:
+    def check_channel(self, channel: Channel) -> None:
+        """It must be JointState in CDR."""
         schema = self.catalog.schema_of(channel)
         if schema is None:
             raise RecordingError(
@@ -630,39 +647,29 @@ class RawMessage:
     data: bytes
 
 
-class _PayloadRead:
-    """Collects the raw messages of one topic of any type (the scan's reader interface)."""
+class _PayloadRead(_ChannelReader):
+    """Collects the raw messages of one topic of any type."""
 
     def __init__(self, path: Path, topic: str, catalog: _Catalog, type_name: str | None) -> None:
-        self.path, self.topic, self.catalog, self.type_name = path, topic, catalog, type_name
+        super().__init__(path, topic, catalog)
+        self.type_name = type_name
         self.messages: list[RawMessage] = []
 
-    def wanted_ids(self) -> set[int]:
-        wanted = set()
-        for cid, channel in self.catalog.channels.items():
-            if channel.topic != self.topic:
-                continue
-            schema = self.catalog.schema_of(channel)
-            if self.type_name is not None and (schema is None or schema.name != self.type_name):
-                found = schema.name if schema is not None else "no schema"
-                raise RecordingError(f"{self.path}: topic {self.topic} is {found}, not {self.type_name}")
-            wanted.add(cid)
-        return wanted
+    def check_channel(self, channel: Channel) -> None:
+        """With a ``type_name``, its schema must be that type."""
+        schema = self.catalog.schema_of(channel)
+        if self.type_name is not None and (schema is None or schema.name != self.type_name):
+            found = schema.name if schema is not None else "no schema"
+            raise RecordingError(f"{self.path}: topic {self.topic} is {found}, not {self.type_name}")
 
     def decode(self, buffer: bytes, offsets: np.ndarray, where: str) -> None:
         offsets = np.sort(offsets)
         heads = _message_heads(np.frombuffer(buffer, np.uint8), offsets, self.wanted_ids(), where)
         starts = (offsets + MESSAGE_HEAD_SIZE).tolist()
         ends = (offsets + RECORD_PREFIX.size + heads["length"].astype(np.int64)).tolist()
-        for i, (a, b) in enumerate(zip(starts, ends, strict=True)):
-            self.messages.append(
-                RawMessage(
-                    int(heads["log_time"][i]),
-                    int(heads["publish_time"][i]),
-                    int(heads["sequence"][i]),
-                    buffer[a:b],
-                )
-            )
+        columns = zip(heads["log_time"].tolist(), heads["publish_time"].tolist(), heads["sequence"].tolist(),
+                      starts, ends, strict=True)  # fmt: skip
+        self.messages += [RawMessage(log, pub, seq, buffer[a:b]) for log, pub, seq, a, b in columns]
 
 
 def read_messages(path: str | Path, topic: str, type_name: str | None = None) -> list[RawMessage]:
@@ -679,7 +686,7 @@ def read_messages(path: str | Path, topic: str, type_name: str | None = None) ->
         catalog = _Catalog(summary)
         reader = _PayloadRead(p, topic, catalog, type_name)
         scan = _LogScan(fh, p, catalog, has_footer)
-        scan.run(reader)  # type: ignore[arg-type]  # same interface as _TopicRead
+        scan.run(reader)
     return reader.messages
 
 
@@ -697,14 +704,14 @@ class _LogScan:
         self.size = os.fstat(fh.fileno()).st_size
         self.truncated = False
         self.counts: Counter[int] = Counter()
-        self._reader: _TopicRead | None = None
+        self._reader: _ChannelReader | None = None
         self._pending: _ChunkRef | None = None
         self._unwalked: list[_ChunkRef] = []
         self._loose = bytearray()
         self._loose_offsets: list[int] = []
         self._zstd = zstandard.ZstdDecompressor()
 
-    def run(self, reader: _TopicRead | None) -> None:
+    def run(self, reader: _ChannelReader | None) -> None:
         self._reader = reader
         for opcode, body, length in self._records():
             if opcode == Opcode.CHUNK:
