@@ -105,6 +105,11 @@ class CdrReader:
             raise WireError(f"{type_name}: payload does not start with the CDR_LE header 0001, got {head!r}")
         self._pos = 4
 
+    @property
+    def position(self) -> int:
+        """The byte offset of the next field (in the payload, header included)."""
+        return self._pos
+
     def _need(self, size: int) -> None:
         if self._pos + size > len(self._data):
             raise WireError(

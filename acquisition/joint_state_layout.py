@@ -18,68 +18,27 @@ always, the three arrays at offsets that depend only on the lengths of the strin
 joint names, arrays of J or 0 values) and decodes or encodes many payloads of that shape at once with
 numpy.
 
-This duplicates the CDR rules of :mod:`.cdr` for speed (one formula in two places): the duplicate is
-tested against :meth:`.messages.JointState.decode` and ``encode`` bit for bit
+A layout is found once per shape by walking one payload with :class:`.cdr.CdrReader`; the bulk
+decode and encode are tested against :meth:`.messages.JointState.decode` and ``encode`` bit for bit
 (tests/acquisition/test_log_reader.py), and anything this module cannot lay out (big-endian CDR,
 malformed or inconsistent payloads) is left to ``JointState.decode``, which names the problem.
 """
 
 from __future__ import annotations
 
-import struct
 from dataclasses import dataclass
 
 import numpy as np
 
-from .cdr import NS_PER_S
+from .cdr import NS_PER_S, CdrReader
 from .errors import WireError
-from .messages import JointState
+from .messages import JOINT_STATE_TYPE, JointState
 
 STAMP_SEC_OFFSET = 4
 """byte offset of ``header.stamp.sec`` (int32) in every JointState payload"""
 STAMP_NANOSEC_OFFSET = 8
 """byte offset of ``header.stamp.nanosec`` (uint32)"""
-FRAME_ID_OFFSET = 12
-"""byte offset of the uint32 length of ``header.frame_id``"""
 ARRAY_FIELDS = ("position", "velocity", "effort")
-
-_U32 = struct.Struct("<I")
-
-
-def _align(pos: int, size: int) -> int:
-    """``pos`` rounded up to a multiple of ``size`` counted from byte 4 (after the CDR header)."""
-    return pos + (-(pos - 4)) % size
-
-
-class _Cursor:
-    """Walks a payload by the CDR rules; any overrun or bad string raises ``_UnlaidError``."""
-
-    def __init__(self, data: bytes, pos: int) -> None:
-        self.data = data
-        self.pos = pos
-
-    def uint32(self) -> int:
-        self.pos = _align(self.pos, 4)
-        if self.pos + 4 > len(self.data):
-            raise _UnlaidError
-        (value,) = _U32.unpack_from(self.data, self.pos)
-        self.pos += 4
-        return value
-
-    def string(self) -> str:
-        n = self.uint32()
-        if self.pos + n > len(self.data):
-            raise _UnlaidError
-        raw = self.data[self.pos : self.pos + n - 1] if n else b""
-        self.pos += n
-        try:
-            return raw.decode("utf-8")
-        except UnicodeDecodeError:
-            raise _UnlaidError from None
-
-
-class _UnlaidError(Exception):
-    """The payload has no fixed layout this module handles (internal; never escapes the module)."""
 
 
 @dataclass(frozen=True)
@@ -103,26 +62,18 @@ class JointStateLayout:
         out (big-endian CDR, a truncated or malformed payload, an array whose length is neither the
         number of joints nor 0). Decode such payloads with :meth:`JointState.decode`."""
         data = bytes(payload)
-        if len(data) < FRAME_ID_OFFSET or data[:2] != b"\x00\x01":
-            return None
         try:
-            cursor = _Cursor(data, FRAME_ID_OFFSET)
-            frame_id = cursor.string()
-            names = tuple(cursor.string() for _ in range(cursor.uint32()))
-            offsets = []
+            reader = CdrReader(data, JOINT_STATE_TYPE)
+            reader.int32(), reader.uint32()  # the stamp, at STAMP_SEC_OFFSET and STAMP_NANOSEC_OFFSET
+            frame_id = reader.string()
+            names = reader.string_sequence()
+            offsets: list[int | None] = []
             for _field in ARRAY_FIELDS:
-                count = cursor.uint32()
-                if count == 0:
-                    offsets.append(None)
-                    continue
-                if count != len(names):
+                values = reader.float64_array()
+                if values.size not in (0, len(names)):
                     return None
-                cursor.pos = _align(cursor.pos, 8)
-                offsets.append(cursor.pos)
-                cursor.pos += 8 * count
-                if cursor.pos > len(data):
-                    return None
-        except _UnlaidError:
+                offsets.append(reader.position - 8 * values.size if values.size else None)
+        except WireError:
             return None
         return cls(len(data), frame_id, names, (offsets[0], offsets[1], offsets[2]))
 
