@@ -293,9 +293,11 @@ class StatusWatch:
         self._sub.undeclare()
 
 
-def wait_for_bridge(session: Any, timeout_s: float = 30.0, keys: AxisKeys = KEYS) -> bool:
-    """True once a bridge holds its liveliness token ``<prefix>/<axis>/alive``."""
-    return wait_until(lambda: bool(list(session.liveliness().get(keys.alive, timeout=1.0))), timeout_s, 0.1)
+def require_bridge(session: Any, timeout_s: float = 30.0, keys: AxisKeys = KEYS) -> None:
+    """Return once a bridge holds its liveliness token ``<prefix>/<axis>/alive``; a
+    :class:`RuntimeError` (the scenario cannot run) if none does within ``timeout_s``."""
+    if not wait_until(lambda: bool(list(session.liveliness().get(keys.alive, timeout=1.0))), timeout_s, 0.1):
+        raise RuntimeError(f"the bridge did not come up within {timeout_s:g} s")
 
 
 @dataclass(frozen=True)
@@ -859,8 +861,7 @@ def bad_payloads(
         recorder = rig.start_recorder()
         bridge = rig.start_bridge()
         with open_session(rig.options()) as session, RssSampler(bridge.pid) as rss:
-            if not wait_for_bridge(session):
-                raise RuntimeError("the bridge did not come up within 30 s")
+            require_bridge(session)
             watch = StatusWatch(session)
             senders = {
                 "live sender": RawSender(session, live=True),
@@ -1018,8 +1019,7 @@ def recorder_kill(work: Path, kill_after_s: float = 3.0) -> RecorderKillResult:
         recorder = rig.start_recorder("--flush-interval", "1")
         bridge = rig.start_bridge("bridge", "--duration", f"{kill_after_s + 2.0}")
         with open_session(rig.options()) as session:
-            if not wait_for_bridge(session):
-                raise RuntimeError("the bridge did not come up within 30 s")
+            require_bridge(session)
         time.sleep(kill_after_s)
         killed_ns = time.time_ns()
         recorder.kill()
@@ -1251,8 +1251,7 @@ def planner_kill(work: Path) -> PlannerKillResult:
         recorder = rig.start_recorder()
         bridge = rig.start_bridge()
         with open_session(rig.options()) as session:
-            if not wait_for_bridge(session):
-                raise RuntimeError("the bridge did not come up within 30 s")
+            require_bridge(session)
             watch = StatusWatch(session)
             args = ("--waypoints", str(points), "--case", "min-time-energy", "--lookahead", "2")
             planner = fleet.start("planner", "planner", *args, "--connect", rig.recorder_endpoint)
@@ -1422,8 +1421,7 @@ def move_flood(work: Path, moves: int = 2000, move_s: float = 30.0, floods: int 
         recorder = rig.start_recorder()
         bridge = rig.start_bridge()
         with open_session(rig.options()) as session, RssSampler(bridge.pid, 0.1) as rss:
-            if not wait_for_bridge(session):
-                raise RuntimeError("the bridge did not come up within 30 s")
+            require_bridge(session)
             watch = StatusWatch(session)
             time.sleep(1.0)
             rss_at["before"] = rss.samples[-1][1]
@@ -1590,8 +1588,7 @@ def session_faults(work: Path, peers: int = 30, fsize_limit: int = 400_000) -> S
         recorder = rig.start_recorder()
         bridge = rig.start_bridge()
         with open_session(rig.options()) as session:
-            if not wait_for_bridge(session):
-                raise RuntimeError("the bridge did not come up within 30 s")
+            require_bridge(session)
         bridge_ep = f"tcp/127.0.0.1:{rig.bridge_ports[-1]}"
         joining = ("--connect", bridge_ep)
         time.sleep(1.0)
