@@ -1146,8 +1146,7 @@ def bridge_kill(work: Path, at_fraction: float = 0.45) -> BridgeKillResult:
         recorder = rig.start_recorder()
         first = rig.start_bridge("bridge-1", "--plant-state", str(state_file))
         with open_session(rig.options()) as session, MoveSender(session, KEYS) as sender:
-            if not sender.wait_for_bridge(30.0):
-                raise RuntimeError("the bridge did not come up within 30 s")
+            sender.require_bridge(30.0)
             duration = fastest_move_s(0.0, params.L, params)
             move = sender.send(0.0, params.L, duration)
             if sender.wait_status(move.move_id, {MoveState.STARTED}, 10.0) is None:
@@ -1706,8 +1705,7 @@ def quick_stop(work: Path, at_fraction: float = 0.5) -> QuickStopResult:
         recorder = rig.start_recorder()
         bridge = rig.start_bridge()
         with open_session(rig.options()) as session, MoveSender(session, KEYS) as sender:
-            if not sender.wait_for_bridge(30.0):
-                raise RuntimeError("the bridge did not come up within 30 s")
+            sender.require_bridge(30.0)
             duration = fastest_move_s(0.0, params.L, params)
             move = sender.send(0.0, params.L, duration)
             sender.send(params.L, 0.2, 1.0)
