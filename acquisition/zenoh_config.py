@@ -43,7 +43,8 @@ SUBSCRIBER_SETTLE_S = 0.5
 """how long a new session waits before it declares a subscriber that must miss nothing (see
 :func:`settle`)"""
 _OPENED_AT: dict[str, float] = {}
-"""monotonic open time of the sessions :func:`open_session` opened, by session id, until settled"""
+"""monotonic open time of the sessions :func:`open_session` opened, by session id, until settled (or
+until the next open after their settling time: sessions nobody settles are not kept)"""
 MODES = ("peer", "client", "router")
 CONNECT_WAIT_S = 5.0
 """default of :attr:`ZenohOptions.connect_wait_s` [s]"""
@@ -304,7 +305,10 @@ def open_session(options: ZenohOptions) -> zenoh.Session:
     if need.must_connect and not wait_connected(session, options.connect_wait_s):
         session.close()
         raise ZenohConnectError(need.unreachable_message(options.connect_wait_s))
-    _OPENED_AT[str(session.info.zid())] = time.monotonic()
+    now = time.monotonic()
+    for zid in [z for z, t in _OPENED_AT.items() if now - t >= SUBSCRIBER_SETTLE_S]:
+        del _OPENED_AT[zid]  # settled by now, whether or not settle() was called: nothing to keep
+    _OPENED_AT[str(session.info.zid())] = now
     return session
 
 
