@@ -1,19 +1,19 @@
-"""Data acquisition: the wire records, the drive side, the Zenoh bridge and the MCAP recorder.
+"""Data acquisition: the wire records, the drives, the Zenoh bridge, the bus and the MCAP logs.
 
-Two layers, each importing only the one below it (and :mod:`axisflow.model`):
+The folders follow the data path, from the drive to the disk:
 
-* **records and logs** — no Zenoh: the wire contract (:mod:`.keys` key expressions, :mod:`.messages`
-  and :mod:`.move_status` ROS 2 CDR records and schemas, :mod:`.cdr`, :mod:`.attachment`), the drive
-  side (:mod:`.drive` the interface, :mod:`.sim_axis` the simulated axis, :mod:`.move_queue`) and the
-  logs (:mod:`.mcap_writer`, :mod:`.recording`, :mod:`.log_reader`, :mod:`.recover`). Identification
-  and the views use this layer; importing it never loads zenoh.
-* **network** — Zenoh sessions (:mod:`.zenoh_config`, :mod:`.publisher`), the bridge (:mod:`.bridge`,
-  :mod:`.move_intake`), :mod:`.move_sender` (the planner's API) and :mod:`.axis_state` (where an
-  axis is), :mod:`.recorder`, :mod:`.replay`.
+* :mod:`.wire` — the contract: key expressions and the ROS 2 CDR records (samples, moves, statuses,
+  plans, quick stops) that cross Zenoh and land in MCAP;
+* :mod:`.drives` — the drive interface and its implementations (the simulated axis);
+* :mod:`.bridge` — the 1 kHz loop between a drive and Zenoh, with its move queue and intake;
+* :mod:`.bus` — Zenoh sessions, the numbered publisher, the move sender, the latest sample of an axis;
+* :mod:`.logs` — the MCAP writer, the log readers, recover, and the recorder and replay.
 
-Names of the network layer are importable from this package too; they are loaded (with zenoh) on
-first use, so ``from axisflow.acquisition import AxisSample`` stays light. (The function ``replay``
-is imported from its module, ``axisflow.acquisition.replay``, whose name it shares.)
+Only :mod:`.bus`, :mod:`.bridge` (its loop and intake), the recorder and replay load Zenoh;
+identification and the views use the rest, and reading a log never loads Zenoh (tests/test_layers.py).
+Names of the Zenoh modules are importable from this package too; they are loaded (with zenoh) on first
+use, so ``from axisflow.acquisition import AxisSample`` stays light. (The function ``replay`` is
+imported from its module, ``axisflow.acquisition.logs.replay``, whose name it shares.)
 """
 
 from __future__ import annotations
@@ -21,8 +21,9 @@ from __future__ import annotations
 import importlib
 from typing import Any
 
-from .attachment import Attachment
-from .drive import Drive, Setpoint
+from .bridge.move_queue import MoveQueue
+from .drives.drive import Drive, Setpoint
+from .drives.sim_axis import PlantConfig, SimulatedAxis, load_plant
 from .errors import (
     AcquisitionError,
     BridgeLostError,
@@ -33,8 +34,7 @@ from .errors import (
     ZenohConfigError,
     ZenohConnectError,
 )
-from .keys import AxisKeys, KeyExprError, all_keys, key_for_topic, topic_for_key
-from .log_reader import (
+from .logs.log_reader import (
     JointColumns,
     JointStateColumns,
     RawMessage,
@@ -43,7 +43,11 @@ from .log_reader import (
     read_joint_states,
     read_messages,
 )
-from .messages import (
+from .logs.recording import RecordedMessage, is_complete, iter_recording
+from .logs.recover import RecoverReport, recover
+from .wire.attachment import Attachment
+from .wire.keys import AxisKeys, KeyExprError, all_keys, key_for_topic, topic_for_key
+from .wire.messages import (
     APPEND,
     JOINT_STATE_TYPE,
     MOVE_TYPE,
@@ -52,27 +56,23 @@ from .messages import (
     JointState,
     MoveCommand,
 )
-from .move_queue import MoveQueue
-from .move_status import MOVE_STATUS_TYPE, MoveState, MoveStatus
-from .plan_record import PLAN_TYPE, PlanRecord
-from .recording import RecordedMessage, is_complete, iter_recording
-from .recover import RecoverReport, recover
-from .sim_axis import PlantConfig, SimulatedAxis, load_plant
+from .wire.move_status import MOVE_STATUS_TYPE, MoveState, MoveStatus
+from .wire.plan_record import PLAN_TYPE, PlanRecord
 
 _NETWORK_NAMES: dict[str, str] = {
-    "AxisState": "axis_state",
-    "Bridge": "bridge",
-    "BridgeConfig": "bridge",
-    "BridgeReport": "bridge",
-    "run_bridge": "bridge",
-    "MoveSender": "move_sender",
-    "Recorder": "recorder",
-    "RecorderConfig": "recorder",
-    "RecordSummary": "recorder",
-    "ReplayReport": "replay",
-    "ZenohOptions": "zenoh_config",
-    "build_config": "zenoh_config",
-    "open_session": "zenoh_config",
+    "AxisState": "bus.axis_state",
+    "Bridge": "bridge.bridge",
+    "BridgeConfig": "bridge.bridge",
+    "BridgeReport": "bridge.bridge",
+    "run_bridge": "bridge.bridge",
+    "MoveSender": "bus.move_sender",
+    "Recorder": "logs.recorder",
+    "RecorderConfig": "logs.recorder",
+    "RecordSummary": "logs.recorder",
+    "ReplayReport": "logs.replay",
+    "ZenohOptions": "bus.session",
+    "build_config": "bus.session",
+    "open_session": "bus.session",
 }
 
 

@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .acquisition import AxisKeys
-from .acquisition.zenoh_config import ZenohOptions, open_session
+from .acquisition.bus.session import ZenohOptions, open_session
 from .excite import run_excitation
 from .experiment import CASES, LAWS
 from .identification.excitation import design_excitation
@@ -161,7 +161,7 @@ def run_demo(
             from .identify import identify_to
 
             # the excitation's moves only: what was recorded around them is of no use, and a sample
-            # lost there (see acquisition.zenoh_config.settle) would stop the refit
+            # lost there (see acquisition.bus.session.settle) would stop the refit
             _ident, refit_report = identify_to(
                 out / "refit", [out / "excitation.mcap"], nominal, IdentifySettings(window=done.window())
             )

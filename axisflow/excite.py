@@ -18,8 +18,8 @@ from dataclasses import dataclass, field
 import zenoh
 
 from .acquisition import AxisKeys, MoveCommand, MoveRejectedError, MoveState, MoveStatus
-from .acquisition.axis_state import AxisState
-from .acquisition.move_sender import BRIDGE_TIMEOUT_S, MoveSender
+from .acquisition.bus.axis_state import AxisState
+from .acquisition.bus.move_sender import BRIDGE_TIMEOUT_S, MoveSender
 from .identification.excitation import ExcitationPlan
 from .identification.signals import TimeWindow
 from .model import AxisflowError, AxisParams, polynomial_law

@@ -8,7 +8,7 @@ For each run (a case × law over the way points) the node
 2. plans the move to way point 1 and sends it, then keeps ``lookahead`` planned moves queued behind
    the running one: each time a move starts, the next is planned (one solve of the planner back-end,
    the result object as it is) and sent appended, so it starts on the tick the previous one ends;
-3. publishes each plan's :class:`~axisflow.acquisition.plan_record.PlanRecord` on
+3. publishes each plan's :class:`~axisflow.acquisition.wire.plan_record.PlanRecord` on
    ``<prefix>/<axis>/plan`` before sending the move, so that a recording holds the plans;
 4. follows every move through its statuses: a rejection, a drop, a stop or a vanished bridge ends the
    run with the bridge's reason; a move that starts later than the end of the one before (the queue
@@ -21,7 +21,7 @@ the slack shrinks accordingly (use a larger lookahead there).
 
 The node sits above the planner and acquisition layers and uses each as it is: a
 :class:`~axisflow.planner.PlannerBackend` and its :class:`~axisflow.planner.PlanResult`, the bridge's
-public move API (:class:`~axisflow.acquisition.move_sender.MoveSender`).
+public move API (:class:`~axisflow.acquisition.bus.move_sender.MoveSender`).
 """
 
 from __future__ import annotations
@@ -37,9 +37,9 @@ import numpy as np
 import zenoh
 
 from .acquisition import PLAN_TYPE, AxisKeys, MoveCommand, MoveState, MoveStatus, PlanRecord
-from .acquisition.axis_state import AxisState
-from .acquisition.move_sender import BRIDGE_TIMEOUT_S, MoveSender
-from .acquisition.publisher import SequencedPublisher, Traffic
+from .acquisition.bus.axis_state import AxisState
+from .acquisition.bus.move_sender import BRIDGE_TIMEOUT_S, MoveSender
+from .acquisition.bus.publisher import SequencedPublisher, Traffic
 from .model import AxisflowError, AxisParams, polynomial_law
 from .planner import Case, ExactBackend, MoveProblem, PlannerBackend, PlanResult
 

@@ -18,7 +18,7 @@ place; nothing is left half-written on error)::
     DIR/<role>.{pem,key,json5}   per role (private keys 0600)
 
 The ``.json5`` files are Zenoh configurations for ``--zenoh-config``; the paths in them are relative
-to their folder (:func:`axisflow.acquisition.zenoh_config.build_config` resolves them there), so a
+to their folder (:func:`axisflow.acquisition.bus.session.build_config` resolves them there), so a
 role's four files (``ca.pem``, ``<role>.pem``, ``<role>.key``, ``<role>.json5``) can be copied
 together to the host that runs it. Keys are ECDSA P-256; certificates are X.509 v3 signed with
 SHA-256, valid from 5 min before issue (clock skew) for ``days`` days, the CA for as long as them.
@@ -47,8 +47,8 @@ from cryptography.hazmat.primitives import hashes, serialization
 from cryptography.hazmat.primitives.asymmetric import ec
 from cryptography.x509.oid import ExtendedKeyUsageOID, NameOID
 
-from .acquisition.keys import DEFAULT_PREFIX, all_keys
-from .acquisition.zenoh_config import check_host
+from .acquisition.bus.session import check_host
+from .acquisition.wire.keys import DEFAULT_PREFIX, all_keys
 from .model import AxisflowError
 from .model.files import check_writable
 

@@ -68,7 +68,7 @@ TICK_NS = 1_000_000
 _F64 = struct.Struct("<d")
 _U32 = struct.Struct("<I")
 _PLANT_STATE = struct.Struct("<dd")
-"""the plant state file of ``bridge --plant-state``: x [m], v [m/s] (acquisition/sim_axis.py)"""
+"""the plant state file of ``bridge --plant-state``: x [m], v [m/s] (acquisition/drives/sim_axis.py)"""
 
 
 # ---- results ---------------------------------------------------------------------------------------
@@ -461,7 +461,7 @@ class PayloadCatalog:
     def move(self, **changes: Any) -> Any:
         """A valid 1 s poly5 move from the rest position (``changes`` override its fields), with a
         fresh move id."""
-        from axisflow.acquisition.messages import MoveCommand
+        from axisflow.acquisition.wire.messages import MoveCommand
 
         fields_ = {
             "stamp_ns": self.STAMP_NS,
@@ -479,7 +479,7 @@ class PayloadCatalog:
     def sampled(self, n: int, duration_s: float = 2.0, **arrays: np.ndarray) -> Any:
         """A sampled move of ``n`` knots at rest at ``hold_m`` (``arrays`` override t_s, position_m,
         velocity_m_s, acceleration_m_s2)."""
-        from axisflow.acquisition.messages import SAMPLED_LAW, Knots
+        from axisflow.acquisition.wire.messages import SAMPLED_LAW, Knots
 
         knots = {
             "t_s": np.linspace(0.0, duration_s, n),
@@ -612,9 +612,9 @@ class PayloadCatalog:
     def could_run(self, data: bytes) -> bool:
         """Whether the bridge might run ``data``: it decodes, passes the validation and starts within
         1 mm of the axis."""
+        from axisflow.acquisition.bridge.move_queue import validate_move
         from axisflow.acquisition.errors import AcquisitionError
-        from axisflow.acquisition.messages import MoveCommand
-        from axisflow.acquisition.move_queue import validate_move
+        from axisflow.acquisition.wire.messages import MoveCommand
 
         try:
             cmd = MoveCommand.decode(data)
@@ -656,8 +656,8 @@ class RawSender:
     bridge treats it as a live sender; ``attachment`` False: plain puts with no attachment at all."""
 
     def __init__(self, session: Any, live: bool, attachment: bool = True, keys: AxisKeys = KEYS) -> None:
-        from axisflow.acquisition.messages import MOVE_TYPE
-        from axisflow.acquisition.publisher import SequencedPublisher, Traffic
+        from axisflow.acquisition.bus.publisher import SequencedPublisher, Traffic
+        from axisflow.acquisition.wire.messages import MOVE_TYPE
 
         self._session, self._key = session, keys.trajectory
         self._pub = SequencedPublisher(session, keys.trajectory, MOVE_TYPE, Traffic.COMMAND)
@@ -1410,7 +1410,7 @@ def move_flood(work: Path, moves: int = 2000, move_s: float = 30.0, floods: int 
     long, so none ends during the floods), then closes (its queue is dropped; the running move goes
     on); ``floods`` − 1 more senders do the same, one after another. Bridge at 1× real time, recorded,
     its RSS sampled."""
-    from axisflow.acquisition.move_queue import MAX_QUEUED_MOVES
+    from axisflow.acquisition.bridge.move_queue import MAX_QUEUED_MOVES
 
     params = default_params()
     x = load_plant(None, params).simulation.initial_position_m
@@ -1697,7 +1697,7 @@ def quick_stop(work: Path, at_fraction: float = 0.5) -> QuickStopResult:
     measured on the recorded samples, against :func:`~axisflow.model.stop_profile` from the measured
     state with the plant's true parameters at full force."""
     from axisflow.acquisition import MoveSender
-    from axisflow.acquisition.quick_stop import STOP_MOVE_ID
+    from axisflow.acquisition.wire.quick_stop import STOP_MOVE_ID
 
     params = default_params()
     with Fleet(work) as fleet:

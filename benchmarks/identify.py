@@ -42,7 +42,7 @@ sys.stderr.write(json.dumps({"rc": rc, "peak_rss_mb": peak_mb}))
 """
 _PER_MESSAGE = """
 import json, resource, sys, time
-from axisflow.acquisition.log_reader import read_joint_states
+from axisflow.acquisition.logs.log_reader import read_joint_states
 t0 = time.perf_counter()
 columns = read_joint_states(sys.argv[1], "/axisflow/a0/state", per_message=True)
 print(json.dumps({"read_s": time.perf_counter() - t0, "rows": len(columns),

@@ -114,7 +114,7 @@ def play(pubs: list, templates: list[bytearray], n_ticks: int, paced: bool) -> t
 def publisher_main() -> None:
     """Entry of the publisher process: ``PORT AXES SECONDS SPEED``; prints one JSON line."""
     from axisflow.acquisition import ZenohOptions, open_session
-    from axisflow.acquisition.publisher import SequencedPublisher, Traffic, wait_for_subscribers
+    from axisflow.acquisition.bus.publisher import SequencedPublisher, Traffic, wait_for_subscribers
 
     port, n_axes, seconds, speed = int(sys.argv[1]), int(sys.argv[2]), float(sys.argv[3]), float(sys.argv[4])
     traffic = Traffic.TELEMETRY if speed > 0 else Traffic.BULK
@@ -256,7 +256,7 @@ def _run_step(tmp: Path, n_axes: int, seconds: float, speed: float = 1.0, sample
 
 def _baseline_writer(n: int, tmp: Path) -> float:
     """Messages/s of a plain mcap Writer (zstd, 1 s-sized chunks) with pre-encoded JointState."""
-    from axisflow.acquisition.messages import JOINT_STATE_SCHEMA
+    from axisflow.acquisition.wire.messages import JOINT_STATE_SCHEMA
     from mcap.writer import CompressionType, Writer
 
     payload = bytes(_payload_template("bench0"))

@@ -22,7 +22,7 @@ sequence numbers count 1, 2, … per topic. Everything random comes from ``numpy
 ([seed, block])`` per block of 10 000 ticks, so a file is bit-for-bit reproducible from its spec, and
 a shorter log is a prefix of a longer one with the same seed.
 
-Payloads are encoded in bulk (:class:`axisflow.acquisition.joint_state_layout.JointStateLayout`) and
+Payloads are encoded in bulk (:class:`axisflow.acquisition.logs.joint_state_layout.JointStateLayout`) and
 handed pre-encoded to a plain ``mcap.writer.Writer``; its per-message ``add_message`` is what costs
 the time (~200 k messages/s).
 """
@@ -37,11 +37,11 @@ from pathlib import Path
 import numpy as np
 from mcap.writer import Writer
 
+from ..acquisition.drives.sim_axis import EncoderConfig, TorqueSensorConfig
 from ..acquisition.errors import RecordingError
-from ..acquisition.joint_state_layout import JointStateLayout
-from ..acquisition.mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE, LIBRARY, OFFERED_QOS_PROFILES
-from ..acquisition.messages import AXIS_JOINTS, JOINT_STATE_TYPE, SCHEMAS, JointState
-from ..acquisition.sim_axis import EncoderConfig, TorqueSensorConfig
+from ..acquisition.logs.joint_state_layout import JointStateLayout
+from ..acquisition.logs.mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE, LIBRARY, OFFERED_QOS_PROFILES
+from ..acquisition.wire.messages import AXIS_JOINTS, JOINT_STATE_TYPE, SCHEMAS, JointState
 from ..model import (
     EXECUTION_PERIOD_NS,
     AxisParams,

@@ -69,7 +69,7 @@ def publisher_main() -> None:
     ``axisflow/bench<i>`` at 1 kHz in real time: each tick a state and a setpoint per axis, stamped
     with the wall clock, payloads pre-encoded with only the stamp patched."""
     from axisflow.acquisition import AxisSample, ZenohOptions, open_session
-    from axisflow.acquisition.publisher import SequencedPublisher, Traffic, wait_for_subscribers
+    from axisflow.acquisition.bus.publisher import SequencedPublisher, Traffic, wait_for_subscribers
 
     port, n_axes, seconds = int(sys.argv[1]), int(sys.argv[2]), float(sys.argv[3])
     with open_session(ZenohOptions.loopback(connect_port=port)) as session:

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..acquisition.keys import DEFAULT_PREFIX
+from ..acquisition.wire.keys import DEFAULT_PREFIX
 
 TIMELINE = "stamp"
 """the one timeline: drive time [ns since the Unix epoch]"""

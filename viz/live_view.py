@@ -31,12 +31,12 @@ from typing import Any, TypeVar
 import numpy as np
 import zenoh
 
-from ..acquisition.attachment import unpack_attachment
+from ..acquisition.bus.session import check_key_expression, settle
 from ..acquisition.errors import WireError
 from ..acquisition.histogram import DurationHistogram, DurationStats
-from ..acquisition.move_status import MoveStatus
-from ..acquisition.plan_record import PlanRecord
-from ..acquisition.zenoh_config import check_key_expression, settle
+from ..acquisition.wire.attachment import unpack_attachment
+from ..acquisition.wire.move_status import MoveStatus
+from ..acquisition.wire.plan_record import PlanRecord
 from ..model import AxisParams
 from .blueprint import view_blueprint
 from .entities import AxisEntities, axis_label
@@ -163,7 +163,7 @@ class LiveView:
         self, session: zenoh.Session, stop: threading.Event, duration_s: float | None = None
     ) -> LiveReport:
         """Receive and stream until ``stop`` is set or ``duration_s`` has passed."""
-        settle(session)  # a subscriber declared on a new session may lose samples (zenoh_config.settle)
+        settle(session)  # a subscriber declared on a new session may lose samples (bus.session.settle)
         t0 = time.monotonic()
         deadline = None if duration_s is None else t0 + duration_s
         next_flush = t0 + self.batch_interval_s

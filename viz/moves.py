@@ -21,8 +21,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..acquisition.move_status import MoveState, MoveStatus
-from ..acquisition.plan_record import PlanRecord
+from ..acquisition.wire.move_status import MoveState, MoveStatus
+from ..acquisition.wire.plan_record import PlanRecord
 from ..model import EXECUTION_PERIOD_S, EnergyAccounting, trace_energy
 from .samples import AxisSamples
 

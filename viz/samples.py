@@ -5,7 +5,7 @@ A state or setpoint message carries two joints (docs/acquisition.md): ``carriage
 (measured, or the feed-forward of a setpoint) and the motor speed (for τ_m·ω_m). :class:`AxisSamples`
 holds those columns for a batch of messages, from a log (:meth:`AxisSamples.of_columns`, the fast
 reader's columns) or from payloads received live (:func:`decode_payloads`, decoded in bulk with
-:class:`~axisflow.acquisition.joint_state_layout.JointStateLayout` where the payloads share one layout,
+:class:`~axisflow.acquisition.logs.joint_state_layout.JointStateLayout` where the payloads share one layout,
 one by one with :meth:`JointState.decode` where they do not).
 """
 
@@ -17,9 +17,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..acquisition.joint_state_layout import JointStateLayout
-from ..acquisition.log_reader import JointStateColumns
-from ..acquisition.messages import CARRIAGE_JOINT, MOTOR_JOINT, JointState
+from ..acquisition.logs.joint_state_layout import JointStateLayout
+from ..acquisition.logs.log_reader import JointStateColumns
+from ..acquisition.wire.messages import CARRIAGE_JOINT, MOTOR_JOINT, JointState
 from .errors import VizError
 
 
@@ -41,7 +41,7 @@ class AxisSamples:
     @classmethod
     def of_columns(cls, columns: JointStateColumns) -> AxisSamples:
         """The carriage and motor columns of a topic read by
-        :func:`~axisflow.acquisition.log_reader.read_joint_states` (rows in file order)."""
+        :func:`~axisflow.acquisition.logs.log_reader.read_joint_states` (rows in file order)."""
         return cls.of_joints(
             columns.stamp_ns,
             columns.position,

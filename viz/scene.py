@@ -14,8 +14,8 @@ from collections.abc import Sequence
 import numpy as np
 import rerun as rr
 
-from ..acquisition.move_status import MoveState, MoveStatus
-from ..acquisition.plan_record import PlanRecord
+from ..acquisition.wire.move_status import MoveState, MoveStatus
+from ..acquisition.wire.plan_record import PlanRecord
 from ..model import AxisParams
 from .entities import TIMELINE, AxisEntities
 from .moves import MoveLedger, MovePoint, MovePoints

@@ -24,9 +24,9 @@ from pathlib import Path
 import rerun as rr
 import rerun.blueprint as rrb
 
-from ..acquisition.log_reader import TopicInfo, list_topics, read_joint_states, read_messages
-from ..acquisition.move_status import MOVE_STATUS_TYPE, MoveStatus
-from ..acquisition.plan_record import PLAN_TYPE, PlanRecord
+from ..acquisition.logs.log_reader import TopicInfo, list_topics, read_joint_states, read_messages
+from ..acquisition.wire.move_status import MOVE_STATUS_TYPE, MoveStatus
+from ..acquisition.wire.plan_record import PLAN_TYPE, PlanRecord
 from ..model import AxisParams
 from .blueprint import view_blueprint
 from .entities import AxisEntities, axis_label

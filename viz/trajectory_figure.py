@@ -24,10 +24,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..acquisition.keys import AxisKeys, topic_for_key
-from ..acquisition.log_reader import read_joint_states, read_messages
-from ..acquisition.move_status import MOVE_STATUS_TYPE, MoveState, MoveStatus
-from ..acquisition.plan_record import PLAN_TYPE, PlanRecord
+from ..acquisition.logs.log_reader import read_joint_states, read_messages
+from ..acquisition.wire.keys import AxisKeys, topic_for_key
+from ..acquisition.wire.move_status import MOVE_STATUS_TYPE, MoveState, MoveStatus
+from ..acquisition.wire.plan_record import PLAN_TYPE, PlanRecord
 from ..model import EXECUTION_PERIOD_S, AxisParams, cart_force, motor_torque, move_ticks
 from ..planner import DEFAULT_OMEGA, Case, MoveProblem, make_backend
 from .errors import VizError

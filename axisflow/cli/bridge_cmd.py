@@ -6,12 +6,12 @@ import argparse
 import gc
 import json
 
-from ..acquisition.bridge import BridgeConfig, run_bridge
-from ..acquisition.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
-from ..acquisition.move_queue import DEFAULT_JUMP_TOLERANCE_M
+from ..acquisition.bridge.bridge import BridgeConfig, run_bridge
+from ..acquisition.bridge.move_queue import DEFAULT_JUMP_TOLERANCE_M
+from ..acquisition.bus.session import open_session
+from ..acquisition.drives.sim_axis import SimulatedAxis, load_plant
 from ..acquisition.shutdown import stop_on_signals
-from ..acquisition.sim_axis import SimulatedAxis, load_plant
-from ..acquisition.zenoh_config import open_session
+from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
 from ..arguments import add_params_option, finite_float, params_from_args
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 

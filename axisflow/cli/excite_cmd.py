@@ -6,8 +6,8 @@ import argparse
 import json
 import sys
 
-from ..acquisition.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
-from ..acquisition.zenoh_config import open_session
+from ..acquisition.bus.session import open_session
+from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
 from ..arguments import add_params_option, finite_float, params_from_args
 from ..excite import run_excitation
 from ..identification.excitation import DEFAULT_DURATION_S, DEFAULT_TORQUE_MARGIN, design_excitation

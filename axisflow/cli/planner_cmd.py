@@ -7,9 +7,9 @@ import json
 import sys
 from collections.abc import Callable
 
-from ..acquisition.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
+from ..acquisition.bus.session import open_session
 from ..acquisition.shutdown import stop_on_signals
-from ..acquisition.zenoh_config import open_session
+from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
 from ..arguments import (
     add_params_option,
     add_solver_options,

@@ -6,11 +6,11 @@ import argparse
 import json
 from pathlib import Path
 
-from ..acquisition.keys import all_keys
-from ..acquisition.mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE
-from ..acquisition.recorder import DEFAULT_QUEUE_CAPACITY, Recorder, RecorderConfig
+from ..acquisition.bus.session import open_session
+from ..acquisition.logs.mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE
+from ..acquisition.logs.recorder import DEFAULT_QUEUE_CAPACITY, Recorder, RecorderConfig
 from ..acquisition.shutdown import stop_on_signals
-from ..acquisition.zenoh_config import open_session
+from ..acquisition.wire.keys import all_keys
 from ..arguments import finite_float, positive_int
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..acquisition.recover import recover
+from ..acquisition.logs.recover import recover
 
 
 def register(sub: argparse._SubParsersAction) -> None:

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import argparse
 
-from ..acquisition.replay import replay
+from ..acquisition.bus.session import open_session
+from ..acquisition.logs.replay import replay
 from ..acquisition.shutdown import stop_on_signals
-from ..acquisition.zenoh_config import open_session
 from ..arguments import finite_float
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 

@@ -9,9 +9,9 @@ from __future__ import annotations
 import argparse
 import time
 
+from ..acquisition.bus.session import ZenohOptions, build_config, open_session
 from ..acquisition.errors import ZenohConfigError
 from ..acquisition.shutdown import stop_on_signals
-from ..acquisition.zenoh_config import ZenohOptions, build_config, open_session
 from ..arguments import finite_float
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 

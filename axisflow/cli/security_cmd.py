@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..acquisition.keys import DEFAULT_PREFIX
+from ..acquisition.wire.keys import DEFAULT_PREFIX
 from ..arguments import positive_int
 from ..security import (
     DEFAULT_DAYS,

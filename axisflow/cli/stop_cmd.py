@@ -6,10 +6,10 @@ import argparse
 import json
 
 from ..acquisition import MoveState
-from ..acquisition.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
-from ..acquisition.move_sender import MoveSender
-from ..acquisition.quick_stop import STOP_MOVE_ID
-from ..acquisition.zenoh_config import open_session
+from ..acquisition.bus.move_sender import MoveSender
+from ..acquisition.bus.session import open_session
+from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
+from ..acquisition.wire.quick_stop import STOP_MOVE_ID
 from ..arguments import finite_float
 from ..model import AxisflowError
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args

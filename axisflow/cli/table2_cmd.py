@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..acquisition.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
+from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
 from ..model.files import check_output_dir
 from ..table2 import table_from_recording, write_table
 

@@ -7,8 +7,8 @@ import json
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..acquisition.keys import all_keys
 from ..acquisition.shutdown import stop_on_signals
+from ..acquisition.wire.keys import all_keys
 from ..arguments import add_params_option, finite_float, non_negative_int, params_from_args
 from ..model import AxisParams
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
@@ -99,7 +99,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _run_live(args: argparse.Namespace, params: AxisParams) -> int:
-    from ..acquisition.zenoh_config import open_session
+    from ..acquisition.bus.session import open_session
     from ..viz.errors import VizError
     from ..viz.live_view import LiveView, check_keys
     from ..viz.outputs import RerunOutput, ViewOutput

@@ -111,7 +111,7 @@ def test_record_refuses_to_overwrite_unless_asked(cli, tmp_path, port, existing,
 
 def _tiny_recording(path):
     from axisflow.acquisition import AxisSample
-    from axisflow.acquisition.mcap_writer import Ros2McapWriter
+    from axisflow.acquisition.logs.mcap_writer import Ros2McapWriter
 
     writer = Ros2McapWriter(path)
     channel = writer.channel_for("/axisflow/a0/state", "sensor_msgs/msg/JointState")

@@ -21,8 +21,8 @@ from pathlib import Path
 
 import pytest
 from axisflow.acquisition import AxisSample
-from axisflow.acquisition.mcap_writer import Ros2McapWriter
-from axisflow.acquisition.messages import JOINT_STATE_TYPE, MOVE_TYPE
+from axisflow.acquisition.logs.mcap_writer import Ros2McapWriter
+from axisflow.acquisition.wire.messages import JOINT_STATE_TYPE, MOVE_TYPE
 from axisflow.model import default_params
 
 from axisflow.cli import main

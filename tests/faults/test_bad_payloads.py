@@ -4,9 +4,9 @@ The catalogue is checked here against the bridge's own decoder and validation (f
 sends it, and a thousand generated payloads per sender, to a bridge process at 1× real time."""
 
 import pytest
+from axisflow.acquisition.bridge.move_queue import validate_move
 from axisflow.acquisition.errors import AcquisitionError
-from axisflow.acquisition.messages import MoveCommand
-from axisflow.acquisition.move_queue import validate_move
+from axisflow.acquisition.wire.messages import MoveCommand
 from axisflow.benchmarks.faults import PayloadCatalog, bad_payloads
 from axisflow.model import default_params
 

@@ -14,8 +14,8 @@ from axisflow.acquisition import (
     load_plant,
     open_session,
 )
-from axisflow.acquisition.bridge import MOVES_PER_TICK, STATUSES_PER_TICK, Bridge
-from axisflow.acquisition.move_intake import MAX_PAYLOAD_BYTES
+from axisflow.acquisition.bridge.bridge import MOVES_PER_TICK, STATUSES_PER_TICK, Bridge
+from axisflow.acquisition.bridge.move_intake import MAX_PAYLOAD_BYTES
 from axisflow.benchmarks.faults import RawSender, StatusWatch, wait_until
 from axisflow.model import default_params
 

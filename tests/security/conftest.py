@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
-from axisflow.acquisition.zenoh_config import ZenohOptions, open_session
+from axisflow.acquisition.bus.session import ZenohOptions, open_session
 
 from axisflow.security import SecurityPlan, init_security
 

@@ -11,10 +11,10 @@ from contextlib import contextmanager
 import pytest
 import zenoh
 from axisflow.acquisition import AxisKeys, BridgeConfig, MoveCommand, MoveSender, MoveState, SimulatedAxis
-from axisflow.acquisition.bridge import run_bridge
-from axisflow.acquisition.move_status import MoveStatus
-from axisflow.acquisition.sim_axis import load_plant
-from axisflow.acquisition.zenoh_config import open_session
+from axisflow.acquisition.bridge.bridge import run_bridge
+from axisflow.acquisition.bus.session import open_session
+from axisflow.acquisition.drives.sim_axis import load_plant
+from axisflow.acquisition.wire.move_status import MoveStatus
 from axisflow.model import load_params
 
 pytestmark = pytest.mark.slow
@@ -262,7 +262,7 @@ def test_the_commands_take_the_files_router_bridge_record(cli, tmp_path):
     import json
     import signal
 
-    from axisflow.acquisition.recording import iter_recording
+    from axisflow.acquisition.logs.recording import iter_recording
 
     from axisflow.security import SecurityPlan, init_security
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 from axisflow.acquisition import ZenohConfigError, ZenohConnectError, ZenohOptions, open_session
-from axisflow.acquisition.zenoh_config import check_endpoint
+from axisflow.acquisition.bus.session import check_endpoint
 
 from .conftest import free_port
 

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 import zenoh
 from axisflow.acquisition import AxisKeys, ZenohOptions, open_session
-from axisflow.acquisition.zenoh_config import build_config
+from axisflow.acquisition.bus.session import build_config
 from cryptography import x509
 
 from axisflow import security

@@ -10,8 +10,8 @@ import stat
 
 import pytest
 import zenoh
-from axisflow.acquisition.keys import KeyExprError
-from axisflow.acquisition.zenoh_config import ZenohOptions, build_config
+from axisflow.acquisition.bus.session import ZenohOptions, build_config
+from axisflow.acquisition.wire.keys import KeyExprError
 from cryptography import x509
 from cryptography.hazmat.primitives import serialization
 from cryptography.x509.oid import ExtendedKeyUsageOID, NameOID

@@ -7,7 +7,7 @@ import threading
 import pytest
 import zenoh
 from axisflow.acquisition import AxisKeys, BridgeConfig, SimulatedAxis, ZenohOptions, load_plant, open_session
-from axisflow.acquisition.bridge import Bridge
+from axisflow.acquisition.bridge.bridge import Bridge
 from axisflow.model import default_params
 
 KEYS = AxisKeys("a0")

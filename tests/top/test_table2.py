@@ -13,7 +13,7 @@ from axisflow.acquisition import (
     MoveStatus,
     PlanRecord,
 )
-from axisflow.acquisition.mcap_writer import Ros2McapWriter
+from axisflow.acquisition.logs.mcap_writer import Ros2McapWriter
 from axisflow.model import AxisflowError
 
 from axisflow.table2 import table_from_recording, table_markdown

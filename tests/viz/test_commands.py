@@ -10,7 +10,7 @@ import signal
 import time
 
 import pytest
-from axisflow.acquisition.mcap_writer import Ros2McapWriter
+from axisflow.acquisition.logs.mcap_writer import Ros2McapWriter
 
 from axisflow.cli import main
 

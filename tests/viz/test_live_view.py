@@ -11,11 +11,11 @@ import time
 
 import numpy as np
 from axisflow.acquisition import JointState, MoveState, MoveStatus, PlanRecord
-from axisflow.acquisition.messages import AXIS_JOINTS, JOINT_STATE_TYPE
-from axisflow.acquisition.move_status import MOVE_STATUS_TYPE
-from axisflow.acquisition.plan_record import PLAN_TYPE
-from axisflow.acquisition.publisher import SequencedPublisher, Traffic, wait_for_subscribers
-from axisflow.acquisition.zenoh_config import ZenohOptions, open_session
+from axisflow.acquisition.bus.publisher import SequencedPublisher, Traffic, wait_for_subscribers
+from axisflow.acquisition.bus.session import ZenohOptions, open_session
+from axisflow.acquisition.wire.messages import AXIS_JOINTS, JOINT_STATE_TYPE
+from axisflow.acquisition.wire.move_status import MOVE_STATUS_TYPE
+from axisflow.acquisition.wire.plan_record import PLAN_TYPE
 from axisflow.model import EXECUTION_PERIOD_S, EnergyAccounting, default_params, trace_energy
 from axisflow.viz.live_view import LiveView
 from axisflow.viz.outputs import RerunOutput, ViewOutput

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from axisflow.acquisition import JointState, MoveState, MoveStatus, PlanRecord, TopicInfo
-from axisflow.acquisition.messages import AXIS_JOINTS
+from axisflow.acquisition.wire.messages import AXIS_JOINTS
 from axisflow.model import EXECUTION_PERIOD_S, EnergyAccounting, trace_energy
 from axisflow.viz.errors import VizError
 from axisflow.viz.live_view import route_of

@@ -1,0 +1,115 @@
+"""A Zenoh publisher that numbers its messages and attaches their source time stamp.
+
+Commands (moves) and telemetry (samples, setpoints) use different Zenoh priorities so that blocking
+command traffic never stalls telemetry and vice versa.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from enum import Enum
+
+import zenoh
+
+from ..wire.attachment import pack_attachment
+from ..wire.messages import SCHEMAS
+
+
+class Traffic(Enum):
+    """What a publisher carries; sets its Zenoh priority and congestion control."""
+
+    TELEMETRY = "telemetry"
+    """1 kHz samples/setpoints: priority DATA_HIGH; drop on congestion (a drive never waits)"""
+    COMMAND = "command"
+    """moves: priority INTERACTIVE_HIGH; block on congestion (never lost to a full queue)"""
+    BULK = "bulk"
+    """as fast as the consumers allow (--speed 0, replay): priority DATA; block on congestion"""
+
+
+_QOS = {
+    Traffic.TELEMETRY: (zenoh.Priority.DATA_HIGH, zenoh.CongestionControl.DROP),
+    Traffic.COMMAND: (zenoh.Priority.INTERACTIVE_HIGH, zenoh.CongestionControl.BLOCK),
+    Traffic.BULK: (zenoh.Priority.DATA, zenoh.CongestionControl.BLOCK),
+}
+
+
+def encoding_for(type_name: str) -> zenoh.Encoding:
+    """Zenoh encoding ``application/cdr;<ROS 2 type>`` (the recorder reads the type from it)."""
+    return zenoh.Encoding.APPLICATION_CDR.with_schema(type_name)
+
+
+def type_of_encoding(encoding: zenoh.Encoding | str) -> str | None:
+    """The ROS 2 type named by an ``application/cdr;<type>`` encoding, or None."""
+    text = str(encoding)
+    head, _, schema = text.partition(";")
+    return schema if head == "application/cdr" and schema in SCHEMAS else None
+
+
+_MCAP_ENCODINGS = {"application/cdr": "cdr", "application/json": "json", "application/protobuf": "protobuf"}
+
+
+def mcap_encoding_of(encoding: zenoh.Encoding | str) -> tuple[str, str | None]:
+    """(MCAP message encoding, ROS 2 type or None) for a Zenoh encoding.
+
+    ``application/cdr;<known type>`` → ("cdr", type); other CDR, JSON and protobuf payloads → the MCAP
+    well-known name with no schema; anything else keeps its Zenoh encoding as the message encoding
+    (e.g. ``zenoh/bytes``, ``text/plain``), so no reader mistakes it for CDR.
+    """
+    text = str(encoding)
+    head = text.partition(";")[0]
+    return _MCAP_ENCODINGS.get(head, head or "zenoh/bytes"), type_of_encoding(text)
+
+
+class SequencedPublisher:
+    """Declares a publisher on ``key``; :meth:`put` adds the rmw_zenoh-style attachment."""
+
+    def __init__(
+        self, session: zenoh.Session, key: str, type_name: str, traffic: Traffic, gid: bytes | None = None
+    ) -> None:
+        """``gid``: the publisher id of the attachments (default: a new random one; publishers of one
+        sender share theirs, so the bridge knows them as one)."""
+        priority, congestion = _QOS[traffic]
+        self.key = key
+        self.gid = os.urandom(16) if gid is None else gid
+        self.sequence = 0
+        self._pub = session.declare_publisher(
+            key, encoding=encoding_for(type_name), priority=priority, congestion_control=congestion
+        )
+
+    def put(self, payload: bytes, source_stamp_ns: int | None = None) -> int:
+        """Publish one message; returns its sequence number (1, 2, …)."""
+        self.sequence += 1
+        stamp = time.time_ns() if source_stamp_ns is None else source_stamp_ns
+        self._pub.put(payload, attachment=pack_attachment(self.sequence, stamp, self.gid))
+        return self.sequence
+
+    @property
+    def has_subscribers(self) -> bool:
+        return self._pub.matching_status.matching
+
+    def undeclare(self) -> None:
+        self._pub.undeclare()
+
+    def __enter__(self) -> SequencedPublisher:
+        return self
+
+    def __exit__(self, *_exc: object) -> None:
+        self.undeclare()
+
+
+def wait_for_subscribers(
+    publishers: list[SequencedPublisher], timeout_s: float, settle_s: float = 0.3
+) -> bool:
+    """Wait until every publisher has a matching subscriber (True) or ``timeout_s`` passes (False).
+
+    After the match, waits ``settle_s`` more: routes may still be forming when the declaration
+    arrives (first messages were seen lost without it).
+    """
+    deadline = time.monotonic() + timeout_s
+    while not all(p.has_subscribers for p in publishers):
+        if time.monotonic() >= deadline:
+            return False
+        time.sleep(0.01)
+    time.sleep(settle_s)
+    return True

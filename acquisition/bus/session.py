@@ -1,0 +1,337 @@
+"""Zenoh session configuration from ``--mode``, ``--connect``, ``--listen`` and ``--zenoh-config``.
+
+The embedded default needs no router and stays on this machine: peer mode, multicast scouting off,
+every process listens on ``tcp/127.0.0.1:7447`` if that port is free and on a port of its own, and
+connects to 7447 (the first process holds the port; the others connect to it, learn each other's own
+ports by gossip and connect directly).
+
+A ``--zenoh-config FILE`` (zenoh JSON5: TLS, authentication, access control…) replaces the embedded
+default; ``--mode``, ``--connect`` and ``--listen`` given on the command line override the file. A
+relative certificate or key path in the file's ``transport/link/tls`` section is taken relative to the
+file's folder when the file is there (else, as zenoh does, relative to the working directory), so a
+folder of ``axisflow security init`` works from anywhere; a TLS file found nowhere is an error that
+names it.
+
+**A session that must connect is checked.** Zenoh's ``open()`` in peer mode returns a session even
+when none of its ``connect`` endpoints can be reached (nothing listens, a TLS handshake is refused);
+such a session would run deaf. :func:`open_session` therefore checks every endpoint's syntax before
+opening (a bad address fails at once) and, when the configuration says the session must connect —
+``--connect`` given, ``connect/endpoints`` in the file, or client mode — waits up to
+:attr:`ZenohOptions.connect_wait_s` for a first router or peer (``session.info``), and otherwise closes
+the session and raises :class:`ZenohConnectError` naming the endpoints and the likely causes. The
+embedded default (its connection to 7447 is optional: the first process has nobody to reach) and
+router mode (a router waits for others) are not checked.
+"""
+
+from __future__ import annotations
+
+import ipaddress
+import json
+import re
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import zenoh
+
+from ..errors import ZenohConfigError, ZenohConnectError, zenoh_reason
+from ..wire.keys import KeyExprError
+
+DEFAULT_ENDPOINT = "tcp/127.0.0.1:7447"
+LOOPBACK_ANY_PORT = "tcp/127.0.0.1:0"
+SUBSCRIBER_SETTLE_S = 0.5
+"""how long a new session waits before it declares a subscriber that must miss nothing (see
+:func:`settle`)"""
+_OPENED_AT: dict[str, float] = {}
+"""monotonic open time of the sessions :func:`open_session` opened, by session id, until settled (or
+until the next open after their settling time: sessions nobody settles are not kept)"""
+MODES = ("peer", "client", "router")
+CONNECT_WAIT_S = 5.0
+"""default of :attr:`ZenohOptions.connect_wait_s` [s]"""
+TLS_FILE_KEYS = (
+    "root_ca_certificate",
+    "listen_certificate",
+    "listen_private_key",
+    "connect_certificate",
+    "connect_private_key",
+)
+"""the file paths of zenoh's ``transport/link/tls`` section"""
+_HOST_PORT_PROTOCOLS = ("tcp", "udp", "tls", "quic", "ws")
+"""endpoint protocols whose address is ``host:port`` (others, e.g. unixsock-stream, zenoh checks)"""
+_HOST_LABEL = re.compile(r"^[A-Za-z0-9_](?:[A-Za-z0-9_-]{0,61}[A-Za-z0-9_])?$")
+
+
+def check_host(host: str, what: str = "host") -> str:
+    """``host`` if it is an IP address (v4 or v6) or a DNS host name; else a :class:`ZenohConfigError`.
+
+    An all-numeric dotted name must be an IPv4 address (``999.1.1.1`` is neither).
+    """
+    try:
+        ipaddress.ip_address(host)
+        return host
+    except ValueError:
+        pass
+    labels = host.removesuffix(".").split(".")
+    if (
+        not host
+        or len(host) > 253
+        or not all(_HOST_LABEL.match(label) for label in labels)
+        or labels[-1].isdigit()
+    ):
+        raise ZenohConfigError(f"{what} {host!r} is neither an IP address (IPv4 parts 0…255) nor a host name")
+    return host
+
+
+def check_endpoint(endpoint: str, listen: bool = False) -> str:
+    """``endpoint`` if it reads ``<proto>/<host>:<port>`` with a valid host and port (for the
+    protocols with such addresses; port 0 only for ``listen``); else a :class:`ZenohConfigError`."""
+    proto, sep, rest = endpoint.partition("/")
+    if not sep or not proto or not rest:
+        raise ZenohConfigError(f"zenoh endpoint {endpoint!r} is not of the form <proto>/<address>")
+    if proto not in _HOST_PORT_PROTOCOLS:
+        return endpoint
+    address = re.split(r"[?#]", rest, maxsplit=1)[0]
+    if address.startswith("["):
+        host, bracket, port = address[1:].partition("]:")
+        if not bracket:
+            host, port = "", ""
+    else:
+        host, _colon, port = address.rpartition(":")
+    if not host or not port:
+        raise ZenohConfigError(f"zenoh endpoint {endpoint!r} has no <host>:<port> after {proto}/")
+    check_host(host, f"zenoh endpoint {endpoint!r}: host")
+    lowest = 0 if listen else 1
+    if not port.isdigit() or not lowest <= int(port) <= 65535:
+        raise ZenohConfigError(
+            f"zenoh endpoint {endpoint!r}: port {port!r} is not in {lowest}…65535"
+            + ("" if listen else " (port 0, any free port, is for --listen only)")
+        )
+    return endpoint
+
+
+@dataclass(frozen=True)
+class ZenohOptions:
+    """How to open a Zenoh session; empty tuples/None mean "not given"."""
+
+    mode: str | None = None
+    connect: tuple[str, ...] = ()
+    listen: tuple[str, ...] = ()
+    config_file: Path | None = None
+    connect_wait_s: float = CONNECT_WAIT_S
+    """how long [s] :func:`open_session` waits for a first router or peer when the configuration
+    must connect (see the module docstring)"""
+
+    def __post_init__(self) -> None:
+        if self.mode is not None and self.mode not in MODES:
+            raise ZenohConfigError(f"zenoh mode {self.mode!r} is not one of {', '.join(MODES)}")
+        for ep in self.connect:
+            check_endpoint(ep)
+        for ep in self.listen:
+            check_endpoint(ep, listen=True)
+        if not 0.0 <= self.connect_wait_s <= 3600.0:
+            raise ZenohConfigError(f"zenoh connect wait = {self.connect_wait_s} s must be in 0…3600 s")
+
+    @classmethod
+    def loopback(cls, listen_port: int | None = None, connect_port: int | None = None) -> ZenohOptions:
+        """Peer on tcp/127.0.0.1 listening on and/or connecting to the given ports (for tests)."""
+        return cls(
+            mode="peer",
+            listen=(f"tcp/127.0.0.1:{listen_port}",) if listen_port is not None else (),
+            connect=(f"tcp/127.0.0.1:{connect_port}",) if connect_port is not None else (),
+        )
+
+
+def _insert(config: zenoh.Config, key: str, value: object) -> None:
+    config.insert_json5(key, json.dumps(value))
+
+
+def _get(config: zenoh.Config, key: str) -> object:
+    try:
+        return json.loads(config.get_json(key))
+    except (zenoh.ZError, ValueError):
+        return None
+
+
+def _resolve_tls_paths(config: zenoh.Config, path: Path) -> None:
+    """Relative TLS file paths of the config file ``path`` → paths in its folder where such a file
+    exists there; a TLS file found nowhere is a :class:`ZenohConfigError` naming it (zenoh's own
+    error does not)."""
+    folder = path.absolute().parent
+    for key in TLS_FILE_KEYS:
+        value = _get(config, f"transport/link/tls/{key}")
+        if not isinstance(value, str) or not value:
+            continue
+        file = Path(value)
+        if not file.is_absolute() and (folder / file).is_file():
+            file = folder / file
+            _insert(config, f"transport/link/tls/{key}", str(file))
+        if not file.is_file():
+            looked = "" if file.is_absolute() else f" (looked in {folder} and the working directory)"
+            raise ZenohConfigError(
+                f"zenoh config file {path}: transport/link/tls/{key} {value!r} does not exist{looked}"
+            )
+
+
+def build_config(options: ZenohOptions) -> zenoh.Config:
+    """A :class:`zenoh.Config` for ``options`` (see the module docstring for the rules)."""
+    if options.config_file is not None:
+        path = Path(options.config_file)
+        if not path.is_file():
+            raise ZenohConfigError(f"zenoh config file {path} does not exist")
+        try:
+            config = zenoh.Config.from_file(str(path))
+        except zenoh.ZError as exc:
+            raise ZenohConfigError(f"zenoh config file {path} is invalid: {zenoh_reason(exc)}") from None
+        _resolve_tls_paths(config, path)
+    else:
+        config = zenoh.Config()
+        _insert(config, "mode", "peer")
+        _insert(config, "scouting/multicast/enabled", False)
+        if not options.connect and not options.listen:
+            # the well-known port if free, and always an own port: gossip hands it to the other peers,
+            # which then connect directly (a peer does not forward between two other peers)
+            _insert(config, "listen/endpoints", [DEFAULT_ENDPOINT, LOOPBACK_ANY_PORT])
+            _insert(config, "listen/exit_on_failure", False)
+            _insert(config, "connect/endpoints", [DEFAULT_ENDPOINT])
+            _insert(config, "connect/timeout_ms", 0)
+            _insert(config, "connect/exit_on_failure", False)
+        elif not options.listen:
+            # a peer listens somewhere so others can reach it directly; never on all interfaces
+            _insert(config, "listen/endpoints", [LOOPBACK_ANY_PORT])
+    try:
+        if options.mode is not None:
+            _insert(config, "mode", options.mode)
+        if options.connect:
+            _insert(config, "connect/endpoints", list(options.connect))
+            if options.config_file is None:
+                # do not block open() forever when the other side is not up yet; retry in background
+                _insert(config, "connect/timeout_ms", 10_000)
+        if options.listen:
+            _insert(config, "listen/endpoints", list(options.listen))
+    except zenoh.ZError as exc:
+        raise ZenohConfigError(f"invalid zenoh option: {zenoh_reason(exc)}") from None
+    return config
+
+
+def _mode_of(config: zenoh.Config) -> str:
+    mode = _get(config, "mode")
+    return mode if isinstance(mode, str) else "peer"
+
+
+def _endpoints(config: zenoh.Config, section: str, mode: str) -> tuple[str, ...]:
+    """``<section>/endpoints`` of ``mode`` (zenoh accepts a list or a list per mode)."""
+    value = _get(config, f"{section}/endpoints")
+    if isinstance(value, dict):
+        value = value.get(mode, [])
+    return tuple(str(ep) for ep in value) if isinstance(value, list) else ()
+
+
+@dataclass(frozen=True)
+class ConnectRequirement:
+    """Whether a session must reach another router or peer, and the endpoints it was given."""
+
+    must_connect: bool
+    endpoints: tuple[str, ...]
+    mode: str
+
+    @property
+    def where(self) -> str:
+        return ", ".join(self.endpoints) or "a router (found by scouting: no endpoint was given)"
+
+    def likely_causes(self) -> str:
+        causes = ["nothing listens there (is the router or the other peer running?)"]
+        if any(ep.startswith(("tls/", "quic/")) for ep in self.endpoints):
+            causes.append(
+                "the TLS handshake was refused: a certificate not signed by the CA the other side "
+                "trusts (another CA, or no certificate), an expired certificate, or an address not in "
+                "the other side's certificate (SAN)"
+            )
+        return "; or ".join(causes)
+
+    def unreachable_message(self, wait_s: float) -> str:
+        """After opening: nobody reached in ``wait_s``."""
+        return (
+            f"zenoh session ({self.mode} mode) reached no router or peer at {self.where} within "
+            f"{wait_s:g} s; likely: {self.likely_causes()}"
+        )
+
+    def open_failed_message(self, reason: str) -> str:
+        """zenoh's ``open()`` itself failed (a client that connects to nobody fails there)."""
+        return (
+            f"cannot open a zenoh session ({self.mode} mode, connecting to {self.where}): {reason}; if "
+            f"no connection was made, likely: {self.likely_causes()}"
+        )
+
+
+def connect_requirement(options: ZenohOptions, config: zenoh.Config) -> ConnectRequirement:
+    """What the configuration says about connecting (see the module docstring)."""
+    mode = _mode_of(config)
+    endpoints = _endpoints(config, "connect", mode)
+    if mode == "router" or (options.config_file is None and not options.connect):
+        return ConnectRequirement(False, endpoints, mode)
+    return ConnectRequirement(bool(endpoints) or mode == "client", endpoints, mode)
+
+
+def wait_connected(session: zenoh.Session, timeout_s: float, poll_s: float = 0.02) -> bool:
+    """True once ``session`` has a router or peer (``session.info``); False after ``timeout_s``."""
+    deadline = time.monotonic() + timeout_s
+    while True:
+        info = session.info
+        if list(info.routers_zid()) or list(info.peers_zid()):
+            return True
+        if time.monotonic() >= deadline:
+            return False
+        time.sleep(poll_s)
+
+
+def open_session(options: ZenohOptions) -> zenoh.Session:
+    """Open a session (use it as a context manager so it is always closed).
+
+    Raises :class:`ZenohConnectError` when the configuration must connect and no router or peer is
+    reached within ``options.connect_wait_s`` (the session is closed first).
+    """
+    config = build_config(options)
+    need = connect_requirement(options, config)
+    for ep in need.endpoints:
+        check_endpoint(ep)
+    for ep in _endpoints(config, "listen", need.mode):
+        check_endpoint(ep, listen=True)
+    try:
+        session = zenoh.open(config)
+    except zenoh.ZError as exc:
+        if need.must_connect:
+            raise ZenohConnectError(need.open_failed_message(zenoh_reason(exc))) from None
+        raise ZenohConfigError(f"cannot open a zenoh session ({options}): {zenoh_reason(exc)}") from None
+    if need.must_connect and not wait_connected(session, options.connect_wait_s):
+        session.close()
+        raise ZenohConnectError(need.unreachable_message(options.connect_wait_s))
+    now = time.monotonic()
+    for zid in [z for z, t in _OPENED_AT.items() if now - t >= SUBSCRIBER_SETTLE_S]:
+        del _OPENED_AT[zid]  # settled by now, whether or not settle() was called: nothing to keep
+    _OPENED_AT[str(session.info.zid())] = now
+    return session
+
+
+def settle(session: zenoh.Session) -> None:
+    """Wait until ``session`` has been open :data:`SUBSCRIBER_SETTLE_S` (at once for an older one).
+
+    Measured with zenoh 1.10 (2026-11-23; docs/acquisition.md): a subscriber declared right after its
+    session opened, on a publisher already sending, lost a run of samples shortly after its first in
+    8 of 40 tries; declared 0.1 s after the open, 1 of 40; 0.3 s after, none in 80; 0.5 s after, none
+    in 150. Query and liveliness round trips before declaring did not help. The recorder and the live
+    view settle first."""
+    opened = _OPENED_AT.pop(str(session.info.zid()), None)
+    if opened is not None:
+        remaining = opened + SUBSCRIBER_SETTLE_S - time.monotonic()
+        if remaining > 0:
+            time.sleep(remaining)
+
+
+def check_key_expression(expr: str, option: str = "--keys") -> zenoh.KeyExpr:
+    """``expr`` as a Zenoh key expression, or a :class:`KeyExprError` naming it."""
+    try:
+        return zenoh.KeyExpr(expr)
+    except zenoh.ZError as exc:
+        raise KeyExprError(
+            f"{option} {expr!r} is not a valid Zenoh key expression: {zenoh_reason(exc)}"
+        ) from None

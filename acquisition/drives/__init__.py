@@ -1,0 +1,2 @@
+"""The drive side of the bridge (no Zenoh here): the drive interface (:mod:`.drive`) and its
+implementations — the built-in simulated axis (:mod:`.sim_axis`, with its plant file)."""

@@ -1,0 +1,325 @@
+"""The recorder: every Zenoh key matching an expression into one (or several, split) MCAP files.
+
+Hot path. The subscriber hands samples to a Zenoh FIFO channel (filled on Zenoh's thread; when full
+it applies back-pressure instead of dropping). The recording thread drains it and, per sample, writes
+the payload bytes exactly as received (no decode, no re-encode) to the channel of topic ``/`` + key,
+with ``log_time`` = the time of writing and ``publish_time``/``sequence`` from the sender's
+attachment (:mod:`~axisflow.acquisition.wire.attachment`). A channel and its ``ros2msg`` schema are
+registered the first time a key appears; the type comes from the sample's ``application/cdr;<type>``
+encoding.
+
+Crash safety. About once a second (``flush_interval_s``) the open chunk is written and fsynced, so a
+SIGKILL loses at most the last second; the file on disk stays readable by a streaming read and
+``axisflow recover`` rebuilds it into a complete one. SIGINT/SIGTERM (set ``stop``) drain the
+channel, then write the summary and footer: nothing received is lost.
+
+Splitting: with ``split_bytes`` or ``split_duration_s`` the recording rolls over to
+``<stem>_0000.mcap``, ``<stem>_0001.mcap``, … at the first flush past the limit.
+
+Counting. Per topic: messages, first/last log time, and messages missed, from the gaps in the
+sequence numbers of each publisher (key, publisher id); publish→write latency in a histogram.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import zenoh
+
+from ..bus.publisher import mcap_encoding_of
+from ..bus.session import check_key_expression, settle
+from ..errors import RecordingError
+from ..histogram import DurationHistogram, DurationStats
+from ..wire.attachment import unpack_attachment
+from ..wire.keys import all_keys, topic_for_key
+from .mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE, Ros2McapWriter
+
+log = logging.getLogger(__name__)
+
+DEFAULT_QUEUE_CAPACITY = 1 << 16
+"""samples the receive channel holds before it applies back-pressure"""
+_IDLE_SLEEP_S = 0.0005
+LIVE_STAMP_WINDOW_NS = 1_000_000_000
+"""a stamp further than this from the wall clock is not live (e.g. a replay): no latency from it"""
+
+
+@dataclass(frozen=True)
+class RecorderConfig:
+    output: Path
+    keys: str = field(default_factory=all_keys)
+    duration_s: float | None = None
+    compression: str = "zstd"
+    flush_interval_s: float = 1.0
+    split_bytes: int | None = None
+    split_duration_s: float | None = None
+    chunk_size: int = DEFAULT_CHUNK_SIZE
+    queue_capacity: int = DEFAULT_QUEUE_CAPACITY
+    overwrite: bool = False
+    """replace existing recordings (``output`` or its split files) instead of refusing to start"""
+
+    def __post_init__(self) -> None:
+        if self.compression not in COMPRESSIONS:
+            raise RecordingError(f"compression {self.compression!r} is not one of {', '.join(COMPRESSIONS)}")
+        for name, value, unit in (
+            ("duration", self.duration_s, "s"),
+            ("flush interval", self.flush_interval_s, "s"),
+            ("split size", self.split_bytes, "bytes"),
+            ("split duration", self.split_duration_s, "s"),
+        ):
+            if value is not None and not value > 0:
+                raise RecordingError(f"recorder {name} = {value} {unit} must be > 0 {unit}")
+        if Path(self.output).suffix != ".mcap":
+            raise RecordingError(f"output {self.output} must end in .mcap")
+        # before any file is opened: a bad expression must not leave an empty recording behind
+        check_key_expression(self.keys)
+
+
+def check_outputs(config: RecorderConfig) -> None:
+    """Refuse to start when the output's directory is missing or (without ``overwrite``) the output,
+    or one of its split files, exists already."""
+    out = Path(config.output)
+    if not out.parent.is_dir():
+        raise RecordingError(f"output directory {out.parent} does not exist")
+    if config.overwrite:
+        return
+    split = config.split_bytes is not None or config.split_duration_s is not None
+    existing = sorted(out.parent.glob(f"{out.stem}_[0-9][0-9][0-9][0-9]{out.suffix}")) if split else []
+    if not split and out.exists():
+        existing = [out]
+    if existing:
+        raise RecordingError(
+            f"output {existing[0]} already exists"
+            + (f" (and {len(existing) - 1} more split files)" if len(existing) > 1 else "")
+            + ": choose another name or pass --overwrite"
+        )
+
+
+@dataclass
+class TopicStats:
+    topic: str
+    messages: int = 0
+    missed: int = 0
+    first_log_ns: int = 0
+    last_log_ns: int = 0
+    publishers: dict[bytes, list[int]] = field(default_factory=dict)
+    """publisher id → [first sequence, last sequence, messages] (a sender that restarts is a new
+    publisher: its sequence starts again at 1)"""
+
+    @property
+    def duration_s(self) -> float:
+        return (self.last_log_ns - self.first_log_ns) * 1e-9
+
+    @property
+    def rate_hz(self) -> float | None:
+        """messages per second over the topic's span; None for a span under 1 s (a burst, not a rate)"""
+        return (self.messages - 1) / self.duration_s if self.duration_s >= 1.0 else None
+
+
+@dataclass
+class RecordSummary:
+    keys: str = ""
+    """the key expression recorded"""
+    files: list[Path] = field(default_factory=list)
+    topics: dict[str, TopicStats] = field(default_factory=dict)
+    wall_time_s: float = 0.0
+    latency: DurationStats | None = None
+    """publish (attachment stamp) → write [µs]"""
+    stale_stamps: int = 0
+    """messages whose stamp was more than LIVE_STAMP_WINDOW_NS from the wall clock (not in latency)"""
+
+    @property
+    def messages(self) -> int:
+        return sum(t.messages for t in self.topics.values())
+
+    @property
+    def missed(self) -> int:
+        return sum(t.missed for t in self.topics.values())
+
+    def format(self) -> str:
+        lines = [
+            f"recorded {self.messages} messages on {len(self.topics)} topics in {self.wall_time_s:.3f} s "
+            f"to {', '.join(str(f) for f in self.files)}; missed {self.missed}",
+            f"  {'topic':<40} {'messages':>9} {'duration s':>10} {'rate Hz':>9} {'missed':>7}",
+        ]
+        for t in sorted(self.topics.values(), key=lambda t: t.topic):
+            rate = "–" if t.rate_hz is None else f"{t.rate_hz:.1f}"
+            lines.append(f"  {t.topic:<40} {t.messages:>9} {t.duration_s:>10.3f} {rate:>9} {t.missed:>7}")
+        for t in sorted(self.topics.values(), key=lambda t: t.topic):
+            if len(t.publishers) > 1:
+                spans = ", then ".join(f"seq {a}–{b}" for a, b, _n in t.publishers.values())
+                lines.append(
+                    f"  {t.topic}: {len(t.publishers)} publishers one after the other ({spans}): its sender "
+                    "restarted; the stamps show the gap"
+                )
+        if not self.topics:
+            lines.append(
+                f"  no message matched {self.keys}: is a publisher running, and reachable with the "
+                "--connect/--listen endpoints given?"
+            )
+        if self.stale_stamps:
+            lines.append(
+                f"  publish→write latency: n/a (stamps not live: {self.stale_stamps} of {self.messages} "
+                f"more than {LIVE_STAMP_WINDOW_NS * 1e-9:g} s from the wall clock, e.g. a replay)"
+            )
+        elif self.latency is not None and self.latency.count:
+            lines.append(
+                f"  publish→write latency: p50 {self.latency.p50_us:.0f} µs, p99 {self.latency.p99_us:.0f} µs"
+            )
+        return "\n".join(lines)
+
+    def to_dict(self) -> dict[str, object]:
+        return {
+            "files": [str(f) for f in self.files],
+            "messages": self.messages,
+            "missed": self.missed,
+            "wall_time_s": self.wall_time_s,
+            "latency": self.latency.to_dict() if self.latency and not self.stale_stamps else None,
+            "stale_stamps": self.stale_stamps,
+            "topics": {
+                t.topic: {
+                    "messages": t.messages,
+                    "missed": t.missed,
+                    "duration_s": t.duration_s,
+                    "rate_hz": t.rate_hz,
+                    "publishers": [
+                        {"id": gid.hex(), "first_sequence": a, "last_sequence": b, "messages": n}
+                        for gid, (a, b, n) in t.publishers.items()
+                    ],
+                }
+                for t in self.topics.values()
+            },
+        }
+
+
+def split_path(output: Path, index: int) -> Path:
+    return output.with_name(f"{output.stem}_{index:04d}{output.suffix}")
+
+
+class Recorder:
+    """Records ``config.keys`` from a session until stopped (see the module docstring)."""
+
+    def __init__(self, config: RecorderConfig) -> None:
+        """Checks the outputs (:func:`check_outputs`) before anything is opened."""
+        check_outputs(config)
+        self.config = config
+        self.summary = RecordSummary(keys=config.keys)
+        self._split = config.split_bytes is not None or config.split_duration_s is not None
+        self._file_index = 0
+        self._writer: Ros2McapWriter | None = None
+        self._file_started = 0.0
+        self._latency = DurationHistogram()
+        self.ready = threading.Event()
+        """set once the subscriber is declared"""
+
+    def _open_next(self) -> Ros2McapWriter:
+        path = split_path(self.config.output, self._file_index) if self._split else self.config.output
+        self._file_index += 1
+        try:
+            writer = Ros2McapWriter(path, self.config.compression, self.config.chunk_size)
+        except OSError as exc:  # e.g. no room for the chunk-index spill file
+            raise RecordingError(f"cannot start {path}: {exc.strerror or exc}") from None
+        self.summary.files.append(path)
+        self._file_started = time.monotonic()
+        return writer
+
+    def _maybe_split(self) -> None:
+        c = self.config
+        assert self._writer is not None
+        too_big = c.split_bytes is not None and self._writer.bytes_written >= c.split_bytes
+        too_long = (
+            c.split_duration_s is not None and time.monotonic() - self._file_started >= c.split_duration_s
+        )
+        if too_big or too_long:
+            self._writer.finish()
+            self._writer = self._open_next()
+
+    def _write(self, sample: zenoh.Sample) -> None:
+        writer = self._writer
+        assert writer is not None
+        now = time.time_ns()
+        key = str(sample.key_expr)
+        topic = topic_for_key(key)
+        channel_id = writer.channels.get(topic)
+        if channel_id is None:
+            message_encoding, type_name = mcap_encoding_of(sample.encoding)
+            channel_id = writer.channel_for(topic, type_name, message_encoding)
+        stats = self.summary.topics.get(topic)
+        if stats is None:
+            stats = self.summary.topics[topic] = TopicStats(topic, first_log_ns=now)
+        att = sample.attachment
+        parsed = unpack_attachment(att.to_bytes()) if att is not None else None
+        if parsed is not None:
+            seq, stamp, gid = parsed
+            span = stats.publishers.get(gid)  # [first, last, count] of this publisher's sequence numbers
+            if span is None:
+                stats.publishers[gid] = [seq, seq, 1]
+            else:
+                if seq > span[1] + 1:
+                    stats.missed += seq - span[1] - 1
+                span[1] = seq
+                span[2] += 1
+            if abs(now - stamp) <= LIVE_STAMP_WINDOW_NS:
+                self._latency.add_ns(now - stamp)
+            else:
+                self.summary.stale_stamps += 1
+        else:
+            seq, stamp = 0, now
+        writer.add(channel_id, now, stamp, seq, sample.payload.to_bytes())
+        stats.messages += 1
+        stats.last_log_ns = now
+
+    def run(self, session: zenoh.Session, stop: threading.Event | None = None) -> RecordSummary:
+        """Record until ``stop`` is set or ``duration_s`` has passed; returns the summary."""
+        stop = stop or threading.Event()
+        c = self.config
+        settle(session)  # a subscriber declared on a new session may lose samples (bus.session.settle)
+        t0 = time.monotonic()
+        deadline = None if c.duration_s is None else t0 + c.duration_s
+        next_flush = t0 + c.flush_interval_s
+        self._writer = self._open_next()
+        failure: OSError | None = None
+        try:
+            with session.declare_subscriber(c.keys, zenoh.handlers.FifoChannel(c.queue_capacity)) as sub:
+                self.ready.set()
+                while True:
+                    sample = sub.try_recv()
+                    if sample is not None:
+                        self._write(sample)
+                        # drain a batch before looking at the clock
+                        for _ in range(255):
+                            sample = sub.try_recv()
+                            if sample is None:
+                                break
+                            self._write(sample)
+                    now = time.monotonic()
+                    if now >= next_flush:
+                        self._writer.flush()
+                        next_flush = now + c.flush_interval_s
+                        if self._split:
+                            self._maybe_split()
+                    if stop.is_set() or (deadline is not None and now >= deadline):
+                        while (sample := sub.try_recv()) is not None:
+                            self._write(sample)
+                        break
+                    if sample is None:
+                        time.sleep(_IDLE_SLEEP_S)
+        except OSError as exc:  # a full disk, a file system gone read-only
+            failure = exc
+        finally:
+            try:
+                self._writer.finish()
+            except OSError as exc:
+                failure = failure or exc
+            self.summary.wall_time_s = time.monotonic() - t0
+            self.summary.latency = self._latency.stats()
+        if failure is not None:
+            path = self._writer.path
+            raise RecordingError(
+                f"writing {path} failed: {failure.strerror or failure}; what was flushed before is on disk "
+                f"(`axisflow recover {path}` rebuilds it into a complete file)"
+            )
+        return self.summary

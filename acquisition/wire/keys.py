@@ -1,0 +1,117 @@
+"""Zenoh key expressions of the wire contract and their MCAP topics.
+
+Per axis, under a configurable prefix (default ``axisflow``):
+
+* ``<prefix>/<axis>/state`` — measured samples, ``sensor_msgs/msg/JointState`` at 1 kHz;
+* ``<prefix>/<axis>/setpoint`` — what the drive is commanded each tick (same type and joints);
+* ``<prefix>/<axis>/trajectory`` — moves sent to the drive, ``axisflow_msgs/msg/Move``;
+* ``<prefix>/<axis>/stop`` — quick-stop requests to the bridge (abandon the queue, brake, hold);
+* ``<prefix>/<axis>/event`` — the bridge's move status (accepted, rejected with the reason, started,
+  completed, dropped), ``axisflow_msgs/msg/MoveStatus``;
+* ``<prefix>/<axis>/plan`` — what the planner decided for each move (duration, model energy, solve
+  time, certificate), ``axisflow_msgs/msg/PlanResult``;
+* ``<prefix>/<axis>/alive`` — a Zenoh liveliness token held by the running bridge (not pub/sub data);
+* ``<prefix>/<axis>/sender/<id>`` — a liveliness token held by each move sender while it lives
+  (``<id>``: the hex publisher id in its moves' attachments); a bridge runs only moves of live senders.
+
+The MCAP topic of a key is ``/`` + the key (``/axisflow/a0/state``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..errors import AcquisitionError
+
+DEFAULT_PREFIX = "axisflow"
+DEFAULT_AXIS = "a0"
+_FORBIDDEN = set("*$#?/ ")
+
+
+class KeyExprError(AcquisitionError, ValueError):
+    """An axis name or key prefix is not a valid Zenoh key chunk."""
+
+
+def _check_chunk(kind: str, text: str, allow_slash: bool) -> None:
+    bad = sorted(c for c in set(text) if c in _FORBIDDEN and not (allow_slash and c == "/"))
+    if not text or bad or text.startswith("/") or text.endswith("/") or "//" in text:
+        raise KeyExprError(
+            f"{kind} {text!r} is not a valid key-expression part (non-empty, no leading/trailing or "
+            f"double '/', none of {' '.join(sorted(_FORBIDDEN - {' '}))} or spaces; offending: {bad})"
+        )
+
+
+@dataclass(frozen=True)
+class AxisKeys:
+    """The key expressions of one axis."""
+
+    axis: str = DEFAULT_AXIS
+    prefix: str = DEFAULT_PREFIX
+
+    def __post_init__(self) -> None:
+        _check_chunk("axis name", self.axis, allow_slash=False)
+        _check_chunk("key prefix", self.prefix, allow_slash=True)
+
+    @property
+    def state(self) -> str:
+        return f"{self.prefix}/{self.axis}/state"
+
+    @property
+    def setpoint(self) -> str:
+        return f"{self.prefix}/{self.axis}/setpoint"
+
+    @property
+    def trajectory(self) -> str:
+        return f"{self.prefix}/{self.axis}/trajectory"
+
+    @property
+    def stop(self) -> str:
+        """quick-stop requests for the bridge (CiA 402 quick stop: abandon the queue, brake, hold)"""
+        return f"{self.prefix}/{self.axis}/stop"
+
+    @property
+    def plan(self) -> str:
+        """the planner's plan record of each move"""
+        return f"{self.prefix}/{self.axis}/plan"
+
+    @property
+    def event(self) -> str:
+        return f"{self.prefix}/{self.axis}/event"
+
+    @property
+    def alive(self) -> str:
+        """liveliness token of the running bridge"""
+        return f"{self.prefix}/{self.axis}/alive"
+
+    def sender(self, publisher_id: bytes) -> str:
+        """liveliness token of the move sender whose moves carry ``publisher_id``"""
+        return f"{self.prefix}/{self.axis}/sender/{publisher_id.hex()}"
+
+    @property
+    def senders(self) -> str:
+        """key expression of every move sender's liveliness token"""
+        return f"{self.prefix}/{self.axis}/sender/*"
+
+
+def sender_of_token(key: str) -> bytes | None:
+    """The publisher id named by a sender token's key (the inverse of :meth:`AxisKeys.sender`)."""
+    try:
+        return bytes.fromhex(key.rsplit("/", 1)[-1])
+    except ValueError:
+        return None
+
+
+def all_keys(prefix: str = DEFAULT_PREFIX) -> str:
+    """The key expression matching every key under ``prefix`` (``axisflow/**``)."""
+    _check_chunk("key prefix", prefix, allow_slash=True)
+    return f"{prefix}/**"
+
+
+def topic_for_key(key: str) -> str:
+    """MCAP topic of a key expression: ``/`` + key."""
+    return "/" + key
+
+
+def key_for_topic(topic: str) -> str:
+    """Key expression of an MCAP topic (the inverse of :func:`topic_for_key`)."""
+    return topic[1:] if topic.startswith("/") else topic

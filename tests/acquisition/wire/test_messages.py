@@ -1,0 +1,215 @@
+"""Round trips of every wire record, checked against mcap_ros2's independent CDR codec."""
+
+import pytest
+from axisflow.acquisition import (
+    JOINT_STATE_TYPE,
+    MOVE_STATUS_TYPE,
+    MOVE_TYPE,
+    SCHEMAS,
+    Attachment,
+    AxisSample,
+    JointState,
+    MoveCommand,
+    MoveState,
+    MoveStatus,
+    WireError,
+)
+from mcap_ros2._dynamic import generate_dynamic, serialize_dynamic
+
+SAMPLE = AxisSample(
+    stamp_ns=1_700_000_000_123_000_000,
+    axis="a0",
+    position_m=0.4,
+    velocity_m_s=-0.25,
+    force_n=12.5,
+    motor_angle_rad=133.3,
+    motor_speed_rad_s=-83.3,
+    motor_torque_nm=0.0375,
+)
+MOVE = MoveCommand(
+    stamp_ns=1_700_000_000_000_000_001,
+    axis="a0",
+    move_id=7,
+    start_ns=1_700_000_001_000_000_000,
+    law="poly5",
+    start_position_m=0.1,
+    end_position_m=0.6,
+    duration_s=0.9,
+)
+
+
+def _reference(type_name: str):
+    return generate_dynamic(type_name, SCHEMAS[type_name])[type_name]
+
+
+def test_axis_sample_round_trip_and_reference_decode():
+    data = SAMPLE.encode()
+    assert AxisSample.decode(data) == SAMPLE
+    ref = _reference(JOINT_STATE_TYPE)(data)
+    assert ref.header.stamp.sec * 10**9 + ref.header.stamp.nanosec == SAMPLE.stamp_ns
+    assert ref.header.frame_id == "a0"
+    assert ref.name == ["carriage", "motor"]
+    assert list(ref.position) == [0.4, 133.3]
+    assert list(ref.velocity) == [-0.25, -83.3]
+    assert list(ref.effort) == [12.5, 0.0375]
+
+
+def test_joint_state_bytes_equal_reference_encoder():
+    js = SAMPLE.to_joint_state()
+    encode = serialize_dynamic(JOINT_STATE_TYPE, SCHEMAS[JOINT_STATE_TYPE])[JOINT_STATE_TYPE]
+    ref_bytes = encode(
+        {
+            "header": {"stamp": {"sec": 1_700_000_000, "nanosec": 123_000_000}, "frame_id": "a0"},
+            "name": list(js.name),
+            "position": list(js.position),
+            "velocity": list(js.velocity),
+            "effort": list(js.effort),
+        }
+    )
+    assert js.encode() == ref_bytes
+
+
+@pytest.mark.parametrize(
+    "js",
+    [
+        JointState(0, "", (), (), (), ()),
+        JointState(5, "x", ("a", "bb", "ccc"), (1.0, 2.0, 3.0), (), (0.5,)),
+        JointState(-1_500_000_000, "neg", ("j",), (1.0,), (2.0,), (3.0,)),
+    ],
+)
+def test_joint_state_round_trip(js):
+    assert JointState.decode(js.encode()) == js
+
+
+def test_move_round_trip_and_reference_decode():
+    data = MOVE.encode()
+    assert MoveCommand.decode(data) == MOVE
+    ref = _reference(MOVE_TYPE)(data)
+    assert (ref.move_id, ref.law, ref.duration_s) == (7, "poly5", 0.9)
+    assert (ref.start_position_m, ref.end_position_m) == (0.1, 0.6)
+    assert ref.start.sec * 10**9 + ref.start.nanosec == MOVE.start_ns
+
+
+STATUS = MoveStatus(
+    stamp_ns=1_700_000_000_250_000_000,
+    axis="a0",
+    state=MoveState.REJECTED,
+    move_id=3,
+    tick=250,
+    start_tick=-1,
+    end_tick=-1,
+    sender=bytes(range(16)).hex(),
+    text="rejected move 3: start_position_m = 0.2 m jumps",
+)
+
+
+def test_move_status_round_trip_and_reference_codec():
+    data = STATUS.encode()
+    assert MoveStatus.decode(data) == STATUS
+    ref = _reference(MOVE_STATUS_TYPE)(data)
+    assert (ref.status, ref.move_id, ref.tick, ref.start_tick, ref.end_tick) == (2, 3, 250, -1, -1)
+    assert (ref.header.frame_id, ref.sender, ref.text) == ("a0", STATUS.sender, STATUS.text)
+    assert ref.header.stamp.sec * 10**9 + ref.header.stamp.nanosec == STATUS.stamp_ns
+    encode = serialize_dynamic(MOVE_STATUS_TYPE, SCHEMAS[MOVE_STATUS_TYPE])[MOVE_STATUS_TYPE]
+    ref_bytes = encode(
+        {
+            "header": {"stamp": {"sec": 1_700_000_000, "nanosec": 250_000_000}, "frame_id": "a0"},
+            "status": 2,
+            "move_id": 3,
+            "tick": 250,
+            "start_tick": -1,
+            "end_tick": -1,
+            "sender": STATUS.sender,
+            "text": STATUS.text,
+        }
+    )
+    assert bytes(ref_bytes) == data
+    # the schema's constants are the enum's values, for readers that only have the schema
+    for state in MoveState:
+        assert f"uint8 {state.name}={state.value}" in SCHEMAS[MOVE_STATUS_TYPE]
+
+
+def test_move_status_with_an_unknown_state_is_a_wire_error():
+    data = bytearray(STATUS.encode())
+    data[data.index(b"a0\x00") + 3] = 9  # the status byte (uint8: no padding) follows the frame id
+    with pytest.raises(WireError, match="move status 9 is not one of 1 \\(accepted\\)"):
+        MoveStatus.decode(bytes(data))
+
+
+def test_attachment_round_trip():
+    att = Attachment(sequence=42, source_stamp_ns=1_700_000_000_000_000_000, publisher_gid=bytes(range(16)))
+    raw = att.encode()
+    assert len(raw) == 33
+    assert Attachment.decode(raw) == att
+
+
+@pytest.mark.parametrize(
+    ("data", "match"),
+    [
+        (b"", "CDR_LE header"),
+        (b"\x00\x00\x00\x00" + bytes(8), "CDR_LE header"),
+        (SAMPLE.encode()[:30], "truncated|exceeds"),
+        (SAMPLE.encode()[:-8], "truncated|exceeds"),
+    ],
+    ids=["empty", "big-endian", "cut-in-names", "cut-in-efforts"],
+)
+def test_bad_bytes_raise_wire_error(data, match):
+    with pytest.raises(WireError, match=match):
+        AxisSample.decode(data)
+
+
+def test_wrong_joints_and_bad_records_rejected():
+    js = JointState(0, "a0", ("x", "y"), (0.0, 0.0), (0.0, 0.0), (0.0, 0.0))
+    with pytest.raises(WireError, match="axis contract"):
+        AxisSample.decode(js.encode())
+    with pytest.raises(WireError, match="not finite"):
+        MoveCommand(0, "a0", 1, 0, "poly5", float("nan"), 0.5, 1.0)
+    with pytest.raises(WireError, match="start_ns = -1 ns"):
+        MoveCommand(0, "a0", 1, -1, "poly5", 0.0, 0.5, 1.0)
+    with pytest.raises(WireError, match="33"):
+        Attachment.decode(b"\x00" * 10)
+    with pytest.raises(ValueError):  # WireError is a ValueError
+        Attachment(1, 2, b"short")
+
+
+def test_a_sampled_move_carries_its_knots_exactly():
+    import numpy as np
+    from axisflow.acquisition.wire.messages import SAMPLED_LAW, Knots
+
+    t = np.linspace(0.0, 0.5, 501)
+    knots = Knots(t, 0.2 + 0.1 * t**2, 0.2 * t, np.full(t.size, 0.2))
+    knots.velocity_m_s[-1] = 0.0
+    cmd = MoveCommand(1, "a0", 9, 0, SAMPLED_LAW, 0.2, 0.225, 0.5, knots)
+    data = cmd.encode()
+    back = MoveCommand.decode(data)
+    assert back == cmd and back.knots is not None and back.knots.t_s.dtype == np.float64
+    ref = _reference(MOVE_TYPE)(data)
+    assert list(ref.knot_position_m) == knots.position_m.tolist()
+    assert list(ref.knot_t_s) == t.tolist() and list(ref.knot_acceleration_m_s2) == [0.2] * 501
+    assert MoveCommand.decode(MOVE.encode()).knots is None  # a polynomial move has none
+
+
+def test_plan_record_round_trip_and_reference_codec():
+    from axisflow.acquisition import PLAN_TYPE, PlanRecord
+
+    rec = PlanRecord(
+        1_700_000_000_000_000_123, "a0", 12, "ab" * 16, "refit", 7, "min-time-energy", "poly5", "exact",
+        0.9, 0.12, 0.55, 1.234, 56.7, "positive", 5.81, 0.0, "converged", 0, 4.2e-5,
+        {"gap_j": 1e-9, "t_lower_s": 1.2339, "t_upper_s": 1.2341, "dJ_dT": -1e-7},
+    )  # fmt: skip
+    data = rec.encode()
+    assert PlanRecord.decode(data) == rec
+    ref = _reference(PLAN_TYPE)(data)
+    assert (ref.move_id, ref.run, ref.waypoint_index, ref.case, ref.law) == (
+        12,
+        "refit",
+        7,
+        "min-time-energy",
+        "poly5",
+    )
+    assert (ref.duration_s, ref.energy_j, ref.iterations) == (1.234, 56.7, 0)
+    assert dict(zip(ref.certificate_keys, ref.certificate_values, strict=True)) == rec.certificate
+    empty = PlanRecord(
+        0, "a0", 1, "", "", 0, "min-time", "poly3", "ipopt", 0.9, 0, 0.1, 0.3, 1, "signed", 30, 0, "x", 9, 0
+    )
+    assert PlanRecord.decode(empty.encode()).certificate == {}
