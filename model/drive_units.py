@@ -1,0 +1,132 @@
+"""A servo drive's integer units and the axis's SI units: the one place where they are converted.
+
+Drives count and scale in their own units (CiA 402 and most vendors' drives):
+
+* **position** in encoder counts of the motor shaft: ``counts_per_rev`` counts per motor revolution
+  (0x6064 position actual value, 0x607A target position), counted from ``zero_counts`` at x = 0;
+* **velocity** in counts per second (0x606C velocity actual value, 0x60B1 velocity offset);
+* **torque** in per mille (0.1 %) of the motor's rated torque (0x6076, given in mN·m): 0x6077 torque
+  actual value, 0x60B2 torque offset, both signed 16-bit.
+
+Through the gearbox (ratio i_r) and the pulley (radius r) of the axis model:
+
+    x = 2π·r·(counts − zero_counts) / (counts_per_rev·i_r)      [m]
+    ẋ = 2π·r·(counts/s) / (counts_per_rev·i_r)                  [m/s]
+    τ_m = per_mille / 1000 · rated_torque                         [N·m]
+
+The drive reports integers; going from SI to drive units rounds to the nearest integer (and saturates
+torques to the signed 16-bit range), so a round trip is exact to half a unit. Every adapter, simulated
+drive and realistic plant uses these functions and nothing else.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import ParameterError
+from .params import AxisParams
+
+PER_MILLE = 1000.0
+"""per mille units in the whole"""
+INT16_MAX = 32767
+"""largest magnitude of a signed 16-bit object (torque actual value, torque offset)"""
+INT32_MIN, INT32_MAX = -(1 << 31), (1 << 31) - 1
+"""range of a signed 32-bit object (position, velocity)"""
+
+ArrayLike = float | int | np.ndarray
+
+
+@dataclass(frozen=True)
+class DriveUnits:
+    """The unit conversions of one drive on one axis (see the module docstring)."""
+
+    counts_per_rev: int
+    """encoder counts per motor revolution"""
+    rated_torque_nm: float
+    """the motor's rated torque [N·m] (0x6076 holds it in mN·m)"""
+    i_r: float
+    """gearbox ratio (motor revolutions per pulley revolution)"""
+    r: float
+    """pulley radius [m]"""
+    zero_counts: int = 0
+    """the position count at x = 0"""
+
+    def __post_init__(self) -> None:
+        if isinstance(self.counts_per_rev, bool) or not isinstance(self.counts_per_rev, int):
+            raise ParameterError(f"counts_per_rev = {self.counts_per_rev!r} must be an integer")
+        if not 1 <= self.counts_per_rev <= 1 << 30:
+            raise ParameterError(f"counts_per_rev = {self.counts_per_rev} counts must be in 1…2^30 counts")
+        for name, value, unit in (
+            ("rated_torque_nm", self.rated_torque_nm, "N·m"),
+            ("i_r", self.i_r, ""),
+            ("r", self.r, "m"),
+        ):
+            if not (math.isfinite(value) and value > 0.0):
+                shown = f"{value} {unit}".strip()
+                raise ParameterError(f"{name} = {shown} must be a finite number > 0")
+        if not INT32_MIN <= self.zero_counts <= INT32_MAX:
+            raise ParameterError(
+                f"zero_counts = {self.zero_counts} counts is outside the signed 32-bit range"
+            )
+
+    @classmethod
+    def for_axis(
+        cls, params: AxisParams, counts_per_rev: int, rated_torque_nm: float, zero_counts: int = 0
+    ) -> DriveUnits:
+        """The units of a drive on the axis of ``params`` (its i_r and r)."""
+        return cls(counts_per_rev, rated_torque_nm, params.i_r, params.r, zero_counts)
+
+    @property
+    def metres_per_count(self) -> float:
+        """Cart travel of one encoder count [m] (the position resolution)."""
+        return 2.0 * math.pi * self.r / (self.counts_per_rev * self.i_r)
+
+    @property
+    def newton_metres_per_unit(self) -> float:
+        """Motor torque of one per mille unit [N·m] (the torque resolution)."""
+        return self.rated_torque_nm / PER_MILLE
+
+    # ---- drive → SI -------------------------------------------------------------------------------
+    def position_m(self, counts: ArrayLike) -> ArrayLike:
+        """Cart position [m] of a position count."""
+        return (counts - self.zero_counts) * self.metres_per_count
+
+    def velocity_m_s(self, counts_per_s: ArrayLike) -> ArrayLike:
+        """Cart velocity [m/s] of a velocity in counts/s."""
+        return counts_per_s * self.metres_per_count
+
+    def torque_nm(self, per_mille: ArrayLike) -> ArrayLike:
+        """Motor torque [N·m] of a torque in per mille of the rated torque."""
+        return per_mille * self.newton_metres_per_unit
+
+    # ---- SI → drive (rounded to the drive's integers) --------------------------------------------
+    def counts(self, position_m: float) -> int:
+        """The position count nearest to ``position_m`` [m]."""
+        return _clamp(round(position_m / self.metres_per_count) + self.zero_counts, INT32_MIN, INT32_MAX)
+
+    def counts_per_s(self, velocity_m_s: float) -> int:
+        """The velocity [counts/s] nearest to ``velocity_m_s`` [m/s]."""
+        return _clamp(round(velocity_m_s / self.metres_per_count), INT32_MIN, INT32_MAX)
+
+    def per_mille(self, torque_nm: float) -> int:
+        """The torque [per mille of rated] nearest to ``torque_nm`` [N·m], saturated to ±32767."""
+        return _clamp(round(torque_nm / self.newton_metres_per_unit), -INT16_MAX, INT16_MAX)
+
+    # ---- quantisation (what a drive would report), in SI -----------------------------------------
+    def quantise_position(self, position_m: ArrayLike) -> ArrayLike:
+        """``position_m`` as the drive's encoder sees it: the count below it, back in metres."""
+        counts = np.floor(np.asarray(position_m, dtype=float) / self.metres_per_count)
+        return counts * self.metres_per_count if np.ndim(counts) else float(counts) * self.metres_per_count
+
+    def quantise_torque(self, torque_nm: ArrayLike) -> ArrayLike:
+        """``torque_nm`` rounded to the drive's per mille steps (saturated), back in N·m."""
+        unit = self.newton_metres_per_unit
+        steps = np.clip(np.rint(np.asarray(torque_nm, dtype=float) / unit), -INT16_MAX, INT16_MAX)
+        return steps * unit if np.ndim(steps) else float(steps) * unit
+
+
+def _clamp(value: int, low: int, high: int) -> int:
+    return int(min(max(value, low), high))

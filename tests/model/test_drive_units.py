@@ -1,0 +1,70 @@
+"""Drive units ↔ SI: the conversions of model/drive_units.py, checked against hand-computed values
+and by round trips."""
+
+import math
+
+import numpy as np
+import pytest
+from axisflow.model import ParameterError, default_params
+from axisflow.model.drive_units import INT16_MAX, DriveUnits
+
+PARAMS = default_params()
+UNITS = DriveUnits.for_axis(PARAMS, counts_per_rev=131072, rated_torque_nm=2.0, zero_counts=1000)
+
+
+def test_one_count_is_the_cart_travel_of_one_motor_count_through_gearbox_and_pulley():
+    expected = 2 * math.pi * PARAMS.r / (131072 * PARAMS.i_r)
+    assert UNITS.metres_per_count == pytest.approx(expected, rel=1e-15)
+    assert UNITS.position_m(1000) == 0.0
+    assert UNITS.position_m(1000 + 131072 * PARAMS.i_r) == pytest.approx(2 * math.pi * PARAMS.r, rel=1e-14)
+
+
+def test_per_mille_is_a_thousandth_of_the_rated_torque():
+    assert UNITS.torque_nm(1000) == pytest.approx(2.0)
+    assert UNITS.torque_nm(-1) == pytest.approx(-0.002)
+    assert UNITS.per_mille(0.5) == 250
+
+
+@pytest.mark.parametrize("x_m", [0.0, 1e-7, 0.123456789, 0.4, 0.8])
+def test_position_round_trip_is_exact_to_half_a_count(x_m):
+    back = UNITS.position_m(UNITS.counts(x_m))
+    assert abs(back - x_m) <= 0.5 * UNITS.metres_per_count + 1e-15
+
+
+@pytest.mark.parametrize("v", [-1.6, -0.01, 0.0, 0.37, 1.6])
+def test_velocity_round_trip_is_exact_to_half_a_count_per_second(v):
+    assert abs(UNITS.velocity_m_s(UNITS.counts_per_s(v)) - v) <= 0.5 * UNITS.metres_per_count + 1e-15
+
+
+@pytest.mark.parametrize("tau", [-3.9, -0.0011, 0.0, 0.7777, 3.9])
+def test_torque_round_trip_is_exact_to_half_a_per_mille(tau):
+    assert abs(UNITS.torque_nm(UNITS.per_mille(tau)) - tau) <= 0.5 * UNITS.newton_metres_per_unit + 1e-15
+
+
+def test_torque_saturates_at_the_signed_16_bit_range():
+    assert UNITS.per_mille(1e9) == INT16_MAX
+    assert UNITS.per_mille(-1e9) == -INT16_MAX
+
+
+def test_quantisation_works_on_scalars_and_arrays_alike():
+    xs = np.array([0.0, 0.1, 0.2])
+    q = UNITS.quantise_position(xs)
+    assert [UNITS.quantise_position(float(x)) for x in xs] == list(q)
+    assert np.all(q <= xs) and np.all(xs - q < UNITS.metres_per_count)
+    t = UNITS.quantise_torque(np.array([0.00149, -0.0015]))
+    assert list(t) == pytest.approx([0.002, -0.002])
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"counts_per_rev": 0}, r"counts_per_rev = 0 counts must be in 1…2\^30 counts"),
+        ({"counts_per_rev": 1.5}, "must be an integer"),
+        ({"rated_torque_nm": 0.0}, r"rated_torque_nm = 0.0 N·m must be a finite number > 0"),
+        ({"r": math.nan}, r"r = nan m must be a finite number > 0"),
+    ],
+)
+def test_bad_units_are_refused_naming_the_value(kwargs, match):
+    base = {"counts_per_rev": 4096, "rated_torque_nm": 1.0, "i_r": 10.0, "r": 0.04}
+    with pytest.raises(ParameterError, match=match):
+        DriveUnits(**{**base, **kwargs})
