@@ -22,19 +22,10 @@ from .model import AxisParams, MoveError, polynomial_law
 from .paper import PAPER_TABLE2, PAPER_WAYPOINTS
 from .planner import DEFAULT_OMEGA, Case, MoveProblem, PlannerBackend, PlanResult
 from .planner.reference_laws import least_energy, time_optimal
+from .waypoints import random_waypoints
 
 LAWS: tuple[str, ...] = ("poly3", "poly5", "poly7")
 CASES: tuple[Case, ...] = (Case.MIN_TIME, Case.MIN_TIME_ENERGY)
-MAX_WAYPOINTS = 100_000
-
-
-def draw_waypoints(seed: int, count: int, stroke_m: float) -> np.ndarray:
-    """``count`` way points uniform in [0, L] from numpy's default generator seeded with ``seed``."""
-    if isinstance(count, bool) or not isinstance(count, int) or not 2 <= count <= MAX_WAYPOINTS:
-        raise MoveError(f"waypoints = {count!r} must be an integer in [2, {MAX_WAYPOINTS}]")
-    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        raise MoveError(f"seed = {seed!r} must be a non-negative integer")
-    return np.random.default_rng(seed).uniform(0.0, stroke_m, count)
 
 
 @dataclass(frozen=True)
@@ -218,7 +209,7 @@ def run_offline(
     ``limits``, compare each move with the physical limit)."""
     if not 0.0 <= omega <= 1.0 or not math.isfinite(omega):
         raise MoveError(f"omega = {omega} is outside [0, 1]")
-    points = draw_waypoints(seed, waypoints, params.L)
+    points = random_waypoints(waypoints, seed, params)
     rows = tuple(plan_row(points, case, law, backend, params, omega) for case in cases for law in laws)
     if limits:
         rows = tuple(physical_limits(row, params) for row in rows)

@@ -32,8 +32,8 @@ from axisflow.model import AxisflowError, AxisParams, default_params
 from axisflow.planner import Case, MoveProblem, make_backend
 from scipy.optimize import least_squares
 
-from axisflow.experiment import draw_waypoints
-from axisflow.paper import PAPER_TABLE2
+from axisflow.paper import PAPER_TABLE2, PAPER_WAYPOINTS
+from axisflow.waypoints import random_waypoints
 
 ROWS = [(case, law) for case in (Case.MIN_TIME, Case.MIN_TIME_ENERGY) for law in ("poly3", "poly5", "poly7")]
 VARIED = ("m", "a1", "a2", "a3", "a4", "tau_max")
@@ -46,7 +46,7 @@ STARTS = (
 
 def totals(params: AxisParams, seed: int = 0) -> np.ndarray:
     """The twelve figures (ΣT, ΣE_th per row) of the offline experiment for ``params``."""
-    points = draw_waypoints(seed, 100, params.L)
+    points = random_waypoints(PAPER_WAYPOINTS, seed, params)
     backend = make_backend("exact")
     out = []
     for case, law in ROWS:
