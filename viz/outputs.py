@@ -34,8 +34,8 @@ from urllib.parse import quote
 import rerun as rr
 import rerun.blueprint as rrb
 
-from ..model.files import atomic_path, check_writable
-from .errors import OutputError, VizError
+from ..model.files import OutputError, atomic_path, check_writable
+from .errors import VizError
 
 APPLICATION_ID = "axisflow_view"
 LOOPBACK = "127.0.0.1"

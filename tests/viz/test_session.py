@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 from axisflow.acquisition import read_joint_states
 from axisflow.model import EXECUTION_PERIOD_S, EnergyAccounting, default_params, trace_energy
+from axisflow.model.files import OutputError
 from axisflow.viz.entities import AxisEntities
-from axisflow.viz.outputs import OutputError
 from axisflow.viz.session import SessionLogs, write_session_rrd
 from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
