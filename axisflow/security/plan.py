@@ -8,6 +8,7 @@ from pathlib import Path
 
 from ..acquisition.bus.session import check_host
 from ..acquisition.wire.keys import DEFAULT_PREFIX, all_keys
+from ..arguments import MAX_TCP_PORT
 from .certificates import DEFAULT_DAYS, check_days
 from .errors import SecurityArgumentError
 from .roles import DEFAULT_ROLES, check_roles
@@ -15,7 +16,6 @@ from .roles import DEFAULT_ROLES, check_roles
 DEFAULT_PORT = 7448
 """the router's TLS port: next to 7447, which the embedded default (plain TCP peers) uses"""
 DEFAULT_HOST = "127.0.0.1"
-MAX_PORT = 65535
 
 
 @dataclass(frozen=True)
@@ -40,8 +40,8 @@ class SecurityPlan:
         all_keys(self.prefix)  # a KeyExprError naming the prefix
         check_roles(self.roles)
         check_days(self.days)
-        if not 1 <= self.port <= MAX_PORT:
-            raise SecurityArgumentError(f"router port = {self.port} must be in 1…{MAX_PORT}")
+        if not 1 <= self.port <= MAX_TCP_PORT:
+            raise SecurityArgumentError(f"router port = {self.port} must be in 1…{MAX_TCP_PORT}")
         check_host(self.host, "router host")
         if self.listen_host is not None:
             check_host(self.listen_host, "router listen host")

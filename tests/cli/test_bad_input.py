@@ -393,6 +393,16 @@ CASES = [
         says=("holdout = 1.5", "[0, 0.9)"),
         untouched=("ident",),
     ),
+    # the views
+    case(
+        "view: web port out of range",
+        "view",
+        "still.mcap",
+        "--serve",
+        "--web-port",
+        "99999",
+        says=("--web-port", "99999 is not a TCP port (0…65535; 0 = a free one)"),
+    ),
     # the planner node, the quick stop
     case(
         "planner: missing way points",
