@@ -249,8 +249,8 @@ class Table2Row:
         nothing was measured"""
         if self.measured is None:
             return None
-        pairs = [(p, m) for p, m in zip(self.planned.energies_j, self.measured.energies_j, strict=True)]
-        e_th = math.fsum(p for p, m in pairs if m is not None)
+        pairs = zip(self.planned.energies_j, self.measured.energies_j, strict=True)
+        e_th = math.fsum(planned for planned, measured in pairs if measured is not None)
         if not e_th:
             return None
         return (e_th - self.measured.energy_measured_j) / e_th * 100.0
@@ -258,7 +258,9 @@ class Table2Row:
     @property
     def time_limit_ratio(self) -> float | None:
         """T/T_limit over the row: total planned time over total time-optimal time"""
-        return None if self.limits is None else self.planned.total_time_s / self.limits.total_time_limit_s
+        if self.limits is None or not self.limits.total_time_limit_s:
+            return None
+        return self.planned.total_time_s / self.limits.total_time_limit_s
 
     @property
     def energy_limit_ratio(self) -> float | None:
