@@ -50,9 +50,29 @@ def positive_int(text: str) -> int:
     return value
 
 
+MAX_TCP_PORT = 65535
+
+
+def tcp_port(text: str) -> int:
+    """argparse type: a TCP port to connect to or listen on, 1…65535."""
+    value = positive_int(text)
+    if value > MAX_TCP_PORT:
+        raise argparse.ArgumentTypeError(f"{value} is not a TCP port (1…{MAX_TCP_PORT})")
+    return value
+
+
+def tcp_port_or_any(text: str) -> int:
+    """argparse type: a TCP port to listen on, 0…65535 (0: any free port)."""
+    value = non_negative_int(text)
+    if value > MAX_TCP_PORT:
+        raise argparse.ArgumentTypeError(f"{value} is not a TCP port (0…{MAX_TCP_PORT}; 0 = a free one)")
+    return value
+
+
 SOLVER_HELP = {
-    "exact": "exact: the problem's structure solved to machine precision with a certificate, ~10–100 µs",
-    "ipopt": "ipopt: CasADi + IPOPT as published, capped at --max-iter iterations, ~5 ms",
+    "exact": "exact: the problem's structure solved to machine precision with a certificate",
+    "ipopt": "ipopt: CasADi + IPOPT as published, capped at --max-iter iterations (docs/planner.md "
+    "compares their times)",
 }
 
 

@@ -46,7 +46,8 @@ from .model.files import write_atomic
 from .paper import FIG5_WAYPOINTS
 from .planner import DEFAULT_OMEGA, make_backend
 from .planner_node import NodeRun, NodeSettings, PlannerNode
-from .table2 import RecordedTable, table_from_recording, write_table
+from .table2 import table_from_recording
+from .table2_record import Table2, write_table2
 from .waypoints import random_waypoints
 
 DEFAULT_WAYPOINTS = 50
@@ -75,7 +76,7 @@ class DemoSettings:
 @dataclass
 class DemoReport:
     out: Path
-    tables: dict[str, RecordedTable] = field(default_factory=dict)
+    tables: dict[str, Table2] = field(default_factory=dict)
     refit: dict = field(default_factory=dict)
     wall_time_s: float = 0.0
     phases_s: dict[str, float] = field(default_factory=dict)
@@ -250,9 +251,9 @@ def _run_experiment(
         node.run(waypoints)  # type: ignore[arg-type]
 
 
-def _table(out: Path, path: Path, label: str) -> RecordedTable:
-    table = table_from_recording(path, label=label)
-    write_table(table, out, f"table2-{label}", f"Table 2, {label} parameters")
+def _table(out: Path, path: Path, label: str) -> Table2:
+    table = table_from_recording(path, label=label, title=f"Table 2, {label} parameters")
+    write_table2(table, out, f"table2-{label}")
     return table
 
 
@@ -274,8 +275,11 @@ def _summary_json(report: DemoReport, settings: DemoSettings) -> dict:
         "wall_time_s": report.wall_time_s,
         "phases_s": report.phases_s,
         "energy_error_pct": {
-            label: {f"{r.case} {r.law}": r.energy_error_pct for r in table.rows}
+            label: {f"{r.case.value} {r.law}": r.energy_error_pct for r in table.rows}
             for label, table in report.tables.items()
         },
-        "idle_ticks": {label: sum(sum(r.idle_ticks) for r in t.rows) for label, t in report.tables.items()},
+        "idle_ticks": {
+            label: sum(r.measured.idle_ticks_total for r in t.rows if r.measured)
+            for label, t in report.tables.items()
+        },
     }

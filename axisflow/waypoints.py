@@ -1,5 +1,6 @@
-"""Way points for the planner node: from a file (one position [m] per line, or a JSON list) or drawn at
-random like the paper's experiment (uniform in [0, L], seeded)."""
+"""Way points: drawn at random as in the paper's experiment (uniform in the stroke [0, L], seeded: the
+same seed gives the same way points to the offline experiment, the planner node, the demo and the
+figures), or read from a file (one position [m] per line, or a JSON list)."""
 
 from __future__ import annotations
 
@@ -9,8 +10,19 @@ from pathlib import Path
 
 import numpy as np
 
-from .experiment import MAX_WAYPOINTS, draw_waypoints
 from .model import AxisParams, MoveError
+
+MAX_WAYPOINTS = 100_000
+"""the most way points a run takes (random or from a file)"""
+
+
+def random_waypoints(count: int, seed: int, params: AxisParams) -> np.ndarray:
+    """``count`` way points [m] uniform in [0, L], from numpy's default generator seeded with ``seed``."""
+    if isinstance(count, bool) or not isinstance(count, int) or not 2 <= count <= MAX_WAYPOINTS:
+        raise MoveError(f"waypoints = {count!r} must be an integer in [2, {MAX_WAYPOINTS}]")
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise MoveError(f"seed = {seed!r} must be a non-negative integer")
+    return np.random.default_rng(seed).uniform(0.0, params.L, count)
 
 
 def load_waypoints(path: str | Path, params: AxisParams) -> np.ndarray:
@@ -48,8 +60,3 @@ def load_waypoints(path: str | Path, params: AxisParams) -> np.ndarray:
     if not 2 <= len(values) <= MAX_WAYPOINTS:
         raise MoveError(f"way point file {p} has {len(values)} way points; 2 to {MAX_WAYPOINTS} make moves")
     return np.array([v for _where, v in values], dtype=float)
-
-
-def random_waypoints(count: int, seed: int, params: AxisParams) -> np.ndarray:
-    """``count`` way points uniform in [0, L] (the experiment's draw)."""
-    return draw_waypoints(seed, count, params.L)

@@ -44,7 +44,7 @@ _PER_MESSAGE = """
 import json, resource, sys, time
 from axisflow.acquisition.logs.log_reader import read_joint_states
 t0 = time.perf_counter()
-columns = read_joint_states(sys.argv[1], "/axisflow/a0/state", per_message=True)
+columns = read_joint_states(sys.argv[1], sys.argv[2], per_message=True)
 print(json.dumps({"read_s": time.perf_counter() - t0, "rows": len(columns),
                   "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
 """
@@ -56,7 +56,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--log", default=None, metavar="FILE", help="keep the synthetic log here (reused if it exists)"
     )
     parser.add_argument(
-        "--no-baseline", action="store_true", help="skip the per-message baseline (~35 s per hour)"
+        "--no-baseline", action="store_true", help="skip the per-message baseline (the slow part of the run)"
     )
 
 
@@ -109,7 +109,7 @@ def run(args: argparse.Namespace) -> int:
         }
         if not args.no_baseline:
             _say(args, "baseline: per-message decoding of the same topic (fresh process)")
-            base = _child(_PER_MESSAGE, str(log))
+            base = _child(_PER_MESSAGE, str(log), spec.topic("state"))
             if base.returncode != 0:
                 raise RuntimeError(f"baseline failed: {base.stderr.strip()[-2000:]}")
             result["per_message"] = json.loads(base.stdout)

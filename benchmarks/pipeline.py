@@ -31,6 +31,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from axisflow.model import EXECUTION_RATE_HZ
 
 CLI = [sys.executable, "-c", "import sys; from axisflow.cli import main; sys.exit(main())"]
 PUBLISHER = [
@@ -113,19 +114,19 @@ def play(pubs: list, templates: list[bytearray], n_ticks: int, paced: bool) -> t
 
 def publisher_main() -> None:
     """Entry of the publisher process: ``PORT AXES SECONDS SPEED``; prints one JSON line."""
-    from axisflow.acquisition import ZenohOptions, open_session
+    from axisflow.acquisition import AxisKeys, ZenohOptions, open_session
     from axisflow.acquisition.bus.publisher import SequencedPublisher, Traffic, wait_for_subscribers
 
     port, n_axes, seconds, speed = int(sys.argv[1]), int(sys.argv[2]), float(sys.argv[3]), float(sys.argv[4])
     traffic = Traffic.TELEMETRY if speed > 0 else Traffic.BULK
     with open_session(ZenohOptions.loopback(connect_port=port)) as session:
         pubs = [
-            SequencedPublisher(session, f"axisflow/bench{i}/state", "sensor_msgs/msg/JointState", traffic)
+            SequencedPublisher(session, AxisKeys(f"bench{i}").state, "sensor_msgs/msg/JointState", traffic)
             for i in range(n_axes)
         ]
         templates = [_payload_template(f"bench{i}") for i in range(n_axes)]
         matched = wait_for_subscribers(pubs, 15.0)
-        n_ticks = round(seconds * 1000)
+        n_ticks = round(seconds * EXECUTION_RATE_HZ)
         wall, late = play(pubs, templates, n_ticks, paced=speed > 0)
         for pub in pubs:
             pub.undeclare()
@@ -256,6 +257,7 @@ def _run_step(tmp: Path, n_axes: int, seconds: float, speed: float = 1.0, sample
 
 def _baseline_writer(n: int, tmp: Path) -> float:
     """Messages/s of a plain mcap Writer (zstd, 1 s-sized chunks) with pre-encoded JointState."""
+    from axisflow.acquisition.wire.keys import AxisKeys, topic_for_key
     from axisflow.acquisition.wire.messages import JOINT_STATE_SCHEMA
     from mcap.writer import CompressionType, Writer
 
@@ -265,7 +267,7 @@ def _baseline_writer(n: int, tmp: Path) -> float:
         w = Writer(fh, compression=CompressionType.ZSTD)
         w.start(profile="ros2")
         sid = w.register_schema("sensor_msgs/msg/JointState", "ros2msg", JOINT_STATE_SCHEMA.encode())
-        cid = w.register_channel("/axisflow/bench0/state", "cdr", sid)
+        cid = w.register_channel(topic_for_key(AxisKeys("bench0").state), "cdr", sid)
         t0 = time.perf_counter()
         for i in range(n):
             w.add_message(cid, i, payload, i, i)
@@ -307,7 +309,7 @@ def run(args: argparse.Namespace) -> int:
 
         # flood: 8 keys, as fast as the recorder takes them
         n_keys = 8
-        flood = _run_step(tmp, n_keys, args.flood / n_keys / 1000, speed=0.0)
+        flood = _run_step(tmp, n_keys, args.flood / n_keys / EXECUTION_RATE_HZ, speed=0.0)
         # the recorder's rate: messages over the span of their write times (first to last log_time)
         flood_rate = flood["recorded"] / flood["write_span_s"] if flood["write_span_s"] else 0.0
         result["recorder_flood"] = {

@@ -1,6 +1,6 @@
 """Planner: per-solve latency of the exact back-end against IPOPT (cap 10) on the same random moves.
 
-Default run (``axisflow bench planner``, ~30 s): ``--moves`` random moves (laws and both cases in
+Default run (``axisflow bench planner``): ``--moves`` random moves (laws and both cases in
 turn, the parameters' energy accounting; a tenth very short, some full-stroke), each solved by
 ``exact`` and by ``ipopt`` with the paper's cap of 10 iterations. Two latencies per back-end:
 
@@ -12,7 +12,7 @@ turn, the parameters' energy accounting; a tenth very short, some full-stroke), 
 ``--json`` prints ``{"moves", "exact": {"p50_us", "p99_us"}, "ipopt": {"p50_us", "p99_us"},
 "speedup_p50"}`` (solve latencies).
 
-``--agreement`` (the full study, 10 000 moves by default; ~15 min on the 2-core VM): every law, both
+``--agreement`` (the full study, 10 000 moves by default; its run time is in docs/planner.md): every law, both
 cases and all three accountings in turn; ``exact`` against a converged IPOPT (max_iter 1000,
 tol 1e-10, no limit margin, 2000 nodes), against IPOPT capped at 10 iterations (the paper's
 setting: how often and by how much it falls short of the optimum, the data of Fig. 4b) and against

@@ -41,6 +41,7 @@ from ..acquisition.drives.sim_axis import EncoderConfig, TorqueSensorConfig
 from ..acquisition.errors import RecordingError
 from ..acquisition.logs.joint_state_layout import JointStateLayout
 from ..acquisition.logs.mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE, LIBRARY, OFFERED_QOS_PROFILES
+from ..acquisition.wire.keys import DEFAULT_AXIS, AxisKeys, topic_for_key
 from ..acquisition.wire.messages import AXIS_JOINTS, JOINT_STATE_TYPE, SCHEMAS, JointState
 from ..model import (
     EXECUTION_PERIOD_NS,
@@ -75,7 +76,7 @@ class SyntheticLogSpec:
 
     duration_s: float = 3600.0
     seed: int = 0
-    axis: str = "a0"
+    axis: str = DEFAULT_AXIS
     start_ns: int = DEFAULT_START_NS
     params: AxisParams = field(default_factory=default_params)
     """nominal parameters: the setpoint's feed-forward and the state's force-from-torque"""
@@ -103,8 +104,9 @@ class SyntheticLogSpec:
         return self.params if self.true_params is None else self.true_params
 
     def topic(self, kind: str) -> str:
-        """``/axisflow/<axis>/<kind>`` for kind ``state`` or ``setpoint``."""
-        return f"/axisflow/{self.axis}/{kind}"
+        """The MCAP topic of the axis's ``state`` or ``setpoint`` key (``/axisflow/<axis>/<kind>``)."""
+        keys = AxisKeys(self.axis)
+        return topic_for_key({"state": keys.state, "setpoint": keys.setpoint}[kind])
 
 
 @dataclass(frozen=True)

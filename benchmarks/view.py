@@ -68,21 +68,23 @@ def publisher_main() -> None:
     """Entry of the publisher process: ``PORT AXES SECONDS``; prints one JSON line. Plays AXES axes
     ``axisflow/bench<i>`` at 1 kHz in real time: each tick a state and a setpoint per axis, stamped
     with the wall clock, payloads pre-encoded with only the stamp patched."""
-    from axisflow.acquisition import AxisSample, ZenohOptions, open_session
+    from axisflow.acquisition import AxisKeys, AxisSample, ZenohOptions, open_session
     from axisflow.acquisition.bus.publisher import SequencedPublisher, Traffic, wait_for_subscribers
+    from axisflow.model import EXECUTION_RATE_HZ
 
     port, n_axes, seconds = int(sys.argv[1]), int(sys.argv[2]), float(sys.argv[3])
     with open_session(ZenohOptions.loopback(connect_port=port)) as session:
         pubs, templates = [], []
         for i in range(n_axes):
             for kind in ("state", "setpoint"):
-                key = f"axisflow/bench{i}/{kind}"
+                keys = AxisKeys(f"bench{i}")
+                key = keys.state if kind == "state" else keys.setpoint
                 pubs.append(SequencedPublisher(session, key, "sensor_msgs/msg/JointState", Traffic.TELEMETRY))
                 templates.append(
                     bytearray(AxisSample(0, f"bench{i}", 0.4, 0.1, 12.0, 100.0, 2.5, 0.3).encode())
                 )
         matched = wait_for_subscribers(pubs, 15.0)
-        n_ticks = round(seconds * 1000)
+        n_ticks = round(seconds * EXECUTION_RATE_HZ)
         wall, late = play(pubs, templates, n_ticks, paced=True)
         for pub in pubs:
             pub.undeclare()

@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..acquisition.wire.keys import AxisKeys, topic_for_key
 from ..model import AxisParams
 from .alignment import estimate_delay
 from .fit import PARAMETERS, FitResult, FrictionValues, check_fit_names, fit_parameters
@@ -30,7 +31,7 @@ from .preparation import PreparationSettings, PreparedLog, fit_indices, fit_samp
 from .signals import IdentificationError, JointKind, TimeWindow, joint_kind, load_joint
 from .uncertainty import Uncertainty, estimate_uncertainty
 
-DEFAULT_TOPIC = "/axisflow/a0/state"
+DEFAULT_TOPIC = topic_for_key(AxisKeys().state)
 DEFAULT_JOINT = "motor"
 
 

@@ -25,17 +25,17 @@ from __future__ import annotations
 import argparse
 import math
 import sys
-from itertools import pairwise
 
 import numpy as np
 from axisflow.model import AxisflowError, AxisParams, default_params
-from axisflow.planner import Case, MoveProblem, make_backend
+from axisflow.planner import make_backend
 from scipy.optimize import least_squares
 
-from axisflow.experiment import draw_waypoints
+from axisflow.experiment import CASES, LAWS, run_offline
 from axisflow.paper import PAPER_TABLE2
 
-ROWS = [(case, law) for case in (Case.MIN_TIME, Case.MIN_TIME_ENERGY) for law in ("poly3", "poly5", "poly7")]
+ROWS = [(case, law) for case in CASES for law in LAWS]
+"""the twelve figures' rows, in the order of :func:`run_offline`"""
 VARIED = ("m", "a1", "a2", "a3", "a4", "tau_max")
 STARTS = (
     {"m": 90.0, "a1": 72.0, "a2": 215.0, "a3": 180.0, "a4": 12.8, "tau_max": 4.0},
@@ -46,15 +46,8 @@ STARTS = (
 
 def totals(params: AxisParams, seed: int = 0) -> np.ndarray:
     """The twelve figures (ΣT, ΣE_th per row) of the offline experiment for ``params``."""
-    points = draw_waypoints(seed, 100, params.L)
-    backend = make_backend("exact")
-    out = []
-    for case, law in ROWS:
-        problems = [MoveProblem(float(a), float(b), law, case) for a, b in pairwise(points)]
-        backend.prepare(problems[0], params)
-        results = [backend.solve(p, params) for p in problems]
-        out += [math.fsum(r.duration_s for r in results), math.fsum(r.energy_j for r in results)]
-    return np.array(out)
+    table = run_offline(params, make_backend("exact"), seed=seed, cases=CASES, laws=LAWS, limits=False)
+    return np.array([v for row in table.rows for v in (row.planned.total_time_s, row.planned.energy_model_j)])
 
 
 PAPER = np.array(

@@ -34,20 +34,20 @@ from urllib.parse import quote
 import rerun as rr
 import rerun.blueprint as rrb
 
-from ..model.files import atomic_path, check_writable
-from .errors import OutputError, VizError
+from ..model.files import OutputError, atomic_path, check_writable
+from .errors import VizError
 
 APPLICATION_ID = "axisflow_view"
 LOOPBACK = "127.0.0.1"
 VIEWER_START_TIMEOUT_S = 20.0
 _STOP_TIMEOUT_S = 5.0
 MIN_FREE_BYTES = 16 * 2**20
-"""room an .rrd needs before a view starts [bytes]. Measured with rerun-sdk 0.41 (2026-11-23): when
-its file writer fails on the first write (a 20 kB file-size limit), ``set_sinks`` never returns; a
-writer that fails later makes the final flush raise, which :class:`RerunOutput` reports"""
+"""room an .rrd needs before a view starts [bytes]: rerun's file writer that fails on its first write
+makes ``set_sinks`` never return, so the room is checked up front; a writer that fails later makes
+the final flush raise, which :class:`RerunOutput` reports (docs/viz.md)"""
 RRD_BYTES_PER_LOG_BYTE = 1.5
-"""an .rrd of a log view is 1.15–1.55× the size of its MCAP logs (measured 2026-11-23: the demo's
-25 MB excitation → 29 MB, 84 MB experiment → 104 MB, a 0.44 MB test log → 0.68 MB)"""
+"""the size of a log view's .rrd over that of its MCAP logs, rounded up from the ratios measured in
+docs/viz.md"""
 
 
 def rerun_env() -> dict[str, str]:

@@ -13,7 +13,7 @@ from ..demo import DEFAULT_LOOKAHEAD, DEFAULT_LOOKAHEAD_S, DEFAULT_WAYPOINTS, De
 from ..model import AxisflowError
 from ..model.files import check_output_dir
 from ..planner import BACKENDS
-from ..table2 import table_markdown
+from ..table2_record import table_markdown
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -96,14 +96,18 @@ def run(args: argparse.Namespace) -> int:
     t0 = time.monotonic()
     with stop_on_signals() as stop:
         report = run_demo(settings, progress, stop)
-    for label, table in report.tables.items():
-        print(table_markdown(table, f"Table 2, {label} parameters"))
+    for table in report.tables.values():
+        print(table_markdown(table))
     nominal, refit = report.tables.get("nominal"), report.tables.get("refit")
     if nominal and refit:
         print("E% (E_th − E_exp)/E_th per row, nominal → refit parameters:")
         for a, b in zip(nominal.rows, refit.rows, strict=True):
-            print(f"  {a.case:16} {a.law}: {a.energy_error_pct:+6.2f} % → {b.energy_error_pct:+6.2f} %")
-        idle = sum(sum(r.idle_ticks) for t in (nominal, refit) for r in t.rows)
+            print(f"  {a.case.value:16} {a.law}: {_pct(a.energy_error_pct)} → {_pct(b.energy_error_pct)}")
+        idle = sum(r.measured.idle_ticks_total for t in (nominal, refit) for r in t.rows if r.measured)
         print(f"idle ticks between consecutive moves, all rows: {idle}")
     print(f"\ndemo finished in {report.wall_time_s:.0f} s; everything is in {report.out}/")
     return 0
+
+
+def _pct(value: float | None) -> str:
+    return "     – %" if value is None else f"{value:+6.2f} %"

@@ -30,7 +30,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         type=finite_float,
         default=DEFAULT_DURATION_S,
         metavar="S",
-        help=f"drive time of the excitation [s] (default {DEFAULT_DURATION_S:g}; at least ~75 s)",
+        help=f"drive time to aim at [s] (default {DEFAULT_DURATION_S:g}); each burst holds whole periods, "
+        "so the run lasts somewhat more or less: --plan-only prints the bursts and the exact time",
     )
     p.add_argument(
         "--center",

@@ -15,10 +15,10 @@ from ..arguments import (
     finite_float,
     params_from_args,
 )
-from ..experiment import LAWS, draw_waypoints
-from ..model import MoveError
+from ..experiment import LAWS
 from ..model.files import check_output_dir, ensure_dir, write_atomic
 from ..planner.pareto import DEFAULT_OMEGAS, check_omegas, sweep, time_optimal_point
+from ..waypoints import random_waypoints
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -80,9 +80,7 @@ def run(args: argparse.Namespace) -> int:
     check_output_dir(args.out)  # a bad --out fails before the sweep, not after it
     laws = tuple(dict.fromkeys(args.law or LAWS))
     omegas = check_omegas(args.omega) if args.omega else DEFAULT_OMEGAS
-    points = draw_waypoints(args.seed, args.waypoints, params.L)
-    if len(points) < 2:  # pragma: no cover - draw_waypoints already requires 2
-        raise MoveError("the sweep needs at least two way points")
+    points = random_waypoints(args.waypoints, args.seed, params)
     backend = None if args.solver == "exact" else backend_from_args(args)
     curves = [sweep(points, law, params, omegas, backend=backend) for law in laws]
     bang = time_optimal_point(points, params)

@@ -7,7 +7,7 @@ import argparse
 from pathlib import Path
 
 from ..acquisition.wire.keys import DEFAULT_PREFIX
-from ..arguments import positive_int
+from ..arguments import positive_int, tcp_port
 from ..security import (
     DEFAULT_DAYS,
     DEFAULT_HOST,
@@ -18,13 +18,6 @@ from ..security import (
     init_security,
     parse_roles,
 )
-
-
-def _port(text: str) -> int:
-    value = positive_int(text)
-    if value > 65535:
-        raise argparse.ArgumentTypeError(f"{value} is not a TCP port (1…65535)")
-    return value
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -75,7 +68,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     init.add_argument(
         "--listen-port",
-        type=_port,
+        type=tcp_port,
         default=DEFAULT_PORT,
         metavar="PORT",
         help=f"the router's TLS port (default {DEFAULT_PORT})",

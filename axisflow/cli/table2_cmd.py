@@ -6,7 +6,8 @@ import argparse
 
 from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
 from ..model.files import check_output_dir
-from ..table2 import table_from_recording, write_table
+from ..table2 import table_from_recording
+from ..table2_record import write_table2
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -30,7 +31,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     out = check_output_dir(args.out)
     table = table_from_recording(args.recording, AxisKeys(args.axis, args.prefix), args.label)
-    json_path, md_path = write_table(table, out)
+    json_path, md_path = write_table2(table, out)
     print((json_path if args.json else md_path).read_text(), end="")
     if not args.json:
         print(f"\nwrote {md_path} and {json_path}")

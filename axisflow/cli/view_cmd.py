@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 from ..acquisition.shutdown import stop_on_signals
 from ..acquisition.wire.keys import all_keys
-from ..arguments import add_params_option, finite_float, non_negative_int, params_from_args
+from ..arguments import add_params_option, finite_float, params_from_args, tcp_port_or_any
 from ..model import AxisParams
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
@@ -50,7 +50,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument(
         "--web-port",
-        type=non_negative_int,
+        type=tcp_port_or_any,
         default=0,
         metavar="N",
         help="with --serve: the web viewer's port (default: a free one)",

@@ -109,7 +109,6 @@ CASES = [
     case(
         "experiment: one way point",
         "experiment",
-        "--offline",
         "--out",
         "exp",
         "--waypoints",
@@ -120,7 +119,6 @@ CASES = [
     case(
         "experiment: omega < 0",
         "experiment",
-        "--offline",
         "--out",
         "exp",
         "--omega",
@@ -131,7 +129,6 @@ CASES = [
     case(
         "experiment: too many way points",
         "experiment",
-        "--offline",
         "--out",
         "exp",
         "--waypoints",
@@ -142,7 +139,6 @@ CASES = [
     case(
         "experiment: --out under /proc",
         "experiment",
-        "--offline",
         "--out",
         "/proc/x",
         says=("output directory /proc/x cannot be created", "/proc is not writable"),
@@ -151,7 +147,6 @@ CASES = [
     case(
         "experiment: --out is a file",
         "experiment",
-        "--offline",
         "--out",
         "notes.txt",
         "--waypoints",
@@ -397,6 +392,16 @@ CASES = [
         "1.5",
         says=("holdout = 1.5", "[0, 0.9)"),
         untouched=("ident",),
+    ),
+    # the views
+    case(
+        "view: web port out of range",
+        "view",
+        "still.mcap",
+        "--serve",
+        "--web-port",
+        "99999",
+        says=("--web-port", "99999 is not a TCP port (0…65535; 0 = a free one)"),
     ),
     # the planner node, the quick stop
     case(
@@ -746,7 +751,7 @@ def test_the_three_slips_of_the_issue_fail_at_once_as_processes(inputs, tmp_path
     assert "holds no complete message to replay" in replay.stderr
     # an experiment into /proc/x used to plan for ~20 s before failing
     t0 = time.monotonic()
-    exp = _run("experiment", "--offline", "--out", "/proc/x", cwd=tmp_path)
+    exp = _run("experiment", "--out", "/proc/x", cwd=tmp_path)
     assert exp.returncode == 2 and exp.stdout == "" and len(exp.stderr.splitlines()) == 1, exp.stderr
     assert "output directory /proc/x cannot be created: /proc is not writable" in exp.stderr
     assert time.monotonic() - t0 < 10.0  # the 100-way-point experiment takes ~20 s: it did not run
@@ -760,7 +765,7 @@ def test_the_three_slips_of_the_issue_fail_at_once_as_processes(inputs, tmp_path
         ("plan", "0.1", "0.5", "--json"),
         ("--help",),
         ("excite", "--plan-only"),
-        ("experiment", "--offline", "--out", "exp", "--waypoints", "3", "--solver", "exact"),
+        ("experiment", "--out", "exp", "--waypoints", "3", "--solver", "exact"),
     ],
     ids=["params", "plan", "help", "excite", "experiment"],
 )

@@ -4,9 +4,12 @@ import subprocess
 import sys
 
 import pytest
+from axisflow.model import default_params
+from axisflow.planner import DEFAULT_OMEGA, Case
 
 from axisflow.cli import main
 from axisflow.paper import PAPER_TABLE2
+from axisflow.table2_record import Table2, read_table2
 
 PARAM_KEYS = [
     "m",
@@ -25,20 +28,6 @@ PARAM_KEYS = [
     "M_eq",
     "energy_accounting",
 ]
-ROW_KEYS = {
-    "case",
-    "law",
-    "solver",
-    "omega",
-    "durations_s",
-    "total_time_s",
-    "energy_model_j",
-    "energy_measured_j",
-    "energy_error_pct",
-    "t_opt_ms_mean",
-    "t_opt_ms_std",
-    "max_violation",
-}
 
 
 def test_params_json_has_exactly_the_documented_keys(capsys):
@@ -93,21 +82,21 @@ def test_plan_prints_a_result_object(capsys):
     assert out["iterations"] <= 10
 
 
-def test_experiment_writes_the_documented_json(tmp_path, capsys):
+def test_experiment_writes_a_table2_json_that_decodes_to_the_record(tmp_path, capsys):
     out = tmp_path / "run"
-    assert main(["experiment", "--offline", "--out", str(out), "--waypoints", "7", "--seed", "3"]) == 0
+    assert main(["experiment", "--out", str(out), "--waypoints", "7", "--seed", "3"]) == 0
     data = json.loads((out / "table2.json").read_text())
-    assert set(data) == {"seed", "waypoints_m", "params", "rows"}
-    assert data["seed"] == 3 and len(data["waypoints_m"]) == 7
-    assert list(data["params"]) == PARAM_KEYS
-    assert [(r["case"], r["law"]) for r in data["rows"]] == list(PAPER_TABLE2)
-    for row in data["rows"]:
-        assert set(row) == ROW_KEYS
-        assert len(row["durations_s"]) == 6
-        assert row["total_time_s"] == pytest.approx(sum(row["durations_s"]))
-        assert row["energy_measured_j"] is None and row["energy_error_pct"] is None
-        assert row["omega"] == (0.9 if row["case"] == "min-time-energy" else None)
-    assert "| min-time | poly3 |" in (out / "table2.md").read_text()
+    table = Table2.decode(data)
+    assert table.encode() == data  # the file holds the record and nothing else
+    assert table.seed == 3 and len(table.waypoints_m) == 7 and table.source is None
+    assert table.params == default_params()
+    assert [(row.case.value, row.law) for row in table.rows] == list(PAPER_TABLE2)
+    for row in table.rows:
+        assert row.planned.moves == 6 and row.measured is None and row.energy_error_pct is None
+        assert row.omega == (DEFAULT_OMEGA if row.case is Case.MIN_TIME_ENERGY else None)
+        assert row.limits is not None and row.time_limit_ratio > 1.0
+    assert "| min-time | poly3 | ipopt | 6 |" in (out / "table2.md").read_text()
+    assert not (out / "limits.json").exists()  # the comparison with the limit is in the rows now
     umask = os.umask(0)
     os.umask(umask)
     assert (out / "table2.json").stat().st_mode & 0o777 == 0o666 & ~umask  # not mkstemp's private 0600
@@ -115,7 +104,7 @@ def test_experiment_writes_the_documented_json(tmp_path, capsys):
 
 def test_one_waypoint_is_refused(tmp_path, capsys):
     with pytest.raises(SystemExit) as exc:
-        main(["experiment", "--offline", "--out", str(tmp_path / "x"), "--waypoints", "1"])
+        main(["experiment", "--out", str(tmp_path / "x"), "--waypoints", "1"])
     assert exc.value.code == 2
     assert "at least 2 are needed" in capsys.readouterr().err
     assert not (tmp_path / "x").exists()
@@ -123,15 +112,20 @@ def test_one_waypoint_is_refused(tmp_path, capsys):
 
 def test_same_seed_same_waypoints(tmp_path):
     for name in ("a", "b"):
-        assert main(["experiment", "--offline", "--out", str(tmp_path / name), "--waypoints", "3"]) == 0
+        assert main(["experiment", "--out", str(tmp_path / name), "--waypoints", "3"]) == 0
     a = json.loads((tmp_path / "a" / "table2.json").read_text())
     b = json.loads((tmp_path / "b" / "table2.json").read_text())
     assert a["waypoints_m"] == b["waypoints_m"]
 
 
-def test_experiment_needs_offline_for_now(tmp_path, capsys):
-    assert main(["experiment", "--out", str(tmp_path)]) == 2
-    assert "--offline" in capsys.readouterr().err
+def test_the_old_offline_flag_runs_the_same_experiment_with_a_note(tmp_path, capsys):
+    assert main(["experiment", "--out", str(tmp_path / "a"), "--waypoints", "3", "--solver", "exact"]) == 0
+    assert capsys.readouterr().err == ""
+    args = ["experiment", "--offline", "--out", str(tmp_path / "b"), "--waypoints", "3", "--solver", "exact"]
+    assert main(args) == 0
+    assert "--offline is no longer needed" in capsys.readouterr().err
+    a, b = (read_table2(tmp_path / name / "table2.json") for name in "ab")
+    assert [r.planned.durations_s for r in a.rows] == [r.planned.durations_s for r in b.rows]
 
 
 def test_experiment_into_a_file_path_fails_cleanly_and_writes_nothing(tmp_path, capsys, monkeypatch):
@@ -141,10 +135,10 @@ def test_experiment_into_a_file_path_fails_cleanly_and_writes_nothing(tmp_path, 
     monkeypatch.setattr("axisflow.cli.experiment_cmd.run_offline", not_before_the_output_is_checked)
     target = tmp_path / "file"
     target.write_text("keep me")
-    assert main(["experiment", "--offline", "--out", str(target), "--waypoints", "3"]) == 2
+    assert main(["experiment", "--out", str(target), "--waypoints", "3"]) == 2
     assert "exists and is not a directory" in capsys.readouterr().err
     assert target.read_text() == "keep me"
-    assert main(["experiment", "--offline", "--out", str(target / "below"), "--waypoints", "3"]) == 2
+    assert main(["experiment", "--out", str(target / "below"), "--waypoints", "3"]) == 2
     assert f"{target} is not a directory" in capsys.readouterr().err
 
 
@@ -186,9 +180,8 @@ def test_every_command_has_help_with_a_description_and_every_option_explained(ca
 @pytest.mark.slow
 def test_offline_table2_lands_within_ten_percent_of_the_paper(tmp_path):
     """The default parameters were calibrated so that all twelve T and E_th figures land within ±10 %."""
-    assert main(["experiment", "--offline", "--out", str(tmp_path)]) == 0
-    data = json.loads((tmp_path / "table2.json").read_text())
-    for row in data["rows"]:
-        paper = PAPER_TABLE2[(row["case"], row["law"])]
-        assert row["total_time_s"] == pytest.approx(paper.total_time_s, rel=0.10), row["law"]
-        assert row["energy_model_j"] == pytest.approx(paper.energy_model_j, rel=0.10), row["law"]
+    assert main(["experiment", "--out", str(tmp_path)]) == 0
+    for row in read_table2(tmp_path / "table2.json").rows:
+        assert row.paper is not None
+        assert row.planned.total_time_s == pytest.approx(row.paper.total_time_s, rel=0.10), row.law
+        assert row.planned.energy_model_j == pytest.approx(row.paper.energy_model_j, rel=0.10), row.law

@@ -8,6 +8,7 @@ import shutil
 import time
 from pathlib import Path
 
+import json5
 import pytest
 from axisflow.acquisition import ZenohConfigError, ZenohConnectError, ZenohOptions, open_session
 from axisflow.acquisition.bus.session import check_endpoint
@@ -17,9 +18,7 @@ from .conftest import free_port
 
 def _as_peer(role_file: Path, out: Path) -> Path:
     """The role's file as a TLS peer that listens nowhere (absolute paths: written elsewhere)."""
-    config = json.loads(
-        "".join(line for line in role_file.read_text().splitlines() if not line.startswith("//"))
-    )
+    config = json5.loads(role_file.read_text())
     tls = config["transport"]["link"]["tls"]
     for key in ("root_ca_certificate", "connect_certificate", "connect_private_key"):
         tls[key] = str(role_file.parent / tls[key])

@@ -9,13 +9,13 @@ import json
 import time
 from pathlib import Path
 
+import json5
 import pytest
 import zenoh
 from axisflow.acquisition import AxisKeys, ZenohOptions, open_session
 from axisflow.acquisition.bus.session import build_config
 from cryptography import x509
 
-from axisflow import security
 from axisflow.security import (
     SecurityArgumentError,
     SecurityError,
@@ -24,6 +24,7 @@ from axisflow.security import (
     add_roles,
     init_security,
 )
+from axisflow.security import add as security_add
 
 from ..conftest import free_port
 
@@ -35,8 +36,7 @@ def _snapshot(directory: Path) -> dict[str, bytes]:
 
 
 def _router_config(directory: Path) -> dict:
-    text = (directory / "router.json5").read_text()
-    return json.loads("".join(line for line in text.splitlines(True) if not line.startswith("//")))
+    return json5.loads((directory / "router.json5").read_text())
 
 
 def test_added_roles_get_certificates_of_the_folders_ca_and_the_router_admits_them(tmp_path):
@@ -89,7 +89,7 @@ def _hand_edit(out: Path) -> None:
             ("bridge-2",),
             lambda d: (d / "router.json5").write_text("{oops"),
             SecurityError,
-            r"router.json5 is not the JSON that `axisflow security init` writes \(line 1",
+            r"router.json5 is not the JSON5 that `axisflow security init` writes \(line 1 ",
         ),
     ],
     ids=["existing-role", "unknown-kind", "twice", "no-ca-key", "hand-edited-acl", "broken-json"],
@@ -110,14 +110,14 @@ def test_a_failure_while_writing_leaves_the_folder_as_it_was(tmp_path, monkeypat
     out = tmp_path / "sec"
     init_security(SecurityPlan(out, port=17993, days=2))
     before = _snapshot(out)
-    real = security._check_zenoh_config
+    real = security_add.check_loads_in_zenoh
 
     def failing(name, text):
         if name == "router.json5":  # the last file: the new roles' files are written by then
             raise OSError(28, "No space left on device")
         real(name, text)
 
-    monkeypatch.setattr(security, "_check_zenoh_config", failing)
+    monkeypatch.setattr(security_add, "check_loads_in_zenoh", failing)
     with pytest.raises(SecurityError, match="No space left on device"):
         add_roles(out, ("recorder-2",))
     assert _snapshot(out) == before

@@ -16,13 +16,13 @@ from cryptography import x509
 from cryptography.hazmat.primitives import serialization
 from cryptography.x509.oid import ExtendedKeyUsageOID, NameOID
 
-from axisflow import security
 from axisflow.security import (
     ROLE_GRANTS,
     SecurityArgumentError,
     SecurityError,
     SecurityPlan,
     acl_config,
+    certificates,
     init_security,
     parse_roles,
 )
@@ -145,8 +145,8 @@ def test_nothing_is_left_half_written_when_issuing_fails(tmp_path, monkeypatch):
             raise OSError(28, "No space left on device")
         return real(*args, **kwargs)
 
-    real = security._issue_leaf
-    monkeypatch.setattr(security, "_issue_leaf", failing)
+    real = certificates.issue_leaf
+    monkeypatch.setattr(certificates, "issue_leaf", failing)
     with pytest.raises(SecurityError, match=r"cannot write .*sec: No space left on device"):
         init_security(SecurityPlan(out))
     assert list(tmp_path.iterdir()) == []

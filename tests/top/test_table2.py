@@ -1,5 +1,6 @@
 """Table 2 from a recording, on a recording made here whose measured energy is known in closed form."""
 
+import json
 import math
 
 import numpy as np
@@ -14,12 +15,14 @@ from axisflow.acquisition import (
     PlanRecord,
 )
 from axisflow.acquisition.logs.mcap_writer import Ros2McapWriter
-from axisflow.model import AxisflowError
+from axisflow.model import EXECUTION_PERIOD_NS, AxisflowError
+from axisflow.planner import Case
 
-from axisflow.table2 import table_from_recording, table_markdown
+from axisflow.table2 import table_from_recording
+from axisflow.table2_record import Table2, table_markdown
 
 T0 = 1_700_000_000_000_000_000
-MS = 1_000_000
+MS = EXECUTION_PERIOD_NS
 SENDER = "cd" * 16
 # three moves: (ticks, planned energy [J], motor speed amplitude [rad/s], torque amplitude [N·m])
 MOVES = [(400, 10.0, 50.0, 1.0), (600, 12.0, 40.0, 2.0), (500, 8.0, 30.0, 1.5)]
@@ -79,13 +82,22 @@ def test_measured_energy_idle_ticks_and_the_row(tmp_path):
     # ∫ max(P, 0) dt over each move: W·Q·T/(2π), T = n ms (the trapezoid at 1 kHz over the kink of
     # max(P, 0) at T/2: within 1e-4)
     expected = [amp_w * amp_q * (n / 1000) / (2 * math.pi) for n, _e, amp_w, amp_q in MOVES]
-    assert [m.energy_measured_j for m in row.moves] == pytest.approx(expected, rel=1e-4)
-    assert row.energy_model_j == 30.0 and row.total_time_s == pytest.approx(1.5)
+    m = row.measured
+    assert m.energies_j == pytest.approx(expected, rel=1e-4)
+    assert row.planned.energy_model_j == 30.0 and row.planned.total_time_s == pytest.approx(1.5)
     assert row.energy_error_pct == pytest.approx((30.0 - sum(expected)) / 30.0 * 100.0, rel=1e-4)
-    assert row.idle_ticks == [0, GAP]
-    data = row.to_json()
-    assert data["t_opt_ms_mean"] == pytest.approx(0.2) and data["moves_completed"] == 3
-    assert {"energy_measured_j", "energy_error_pct", "idle_ticks", "durations_s"} <= set(data)
+    assert m.idle_ticks == (0, GAP) and m.moves_completed == 3
+    assert row.planned.t_opt_ms_mean == pytest.approx(0.2)
+    assert (row.case, row.law, row.solver, row.label, row.omega) == (
+        Case.MIN_TIME,
+        "poly5",
+        "exact",
+        "test",
+        None,
+    )
+    assert table.waypoints_m == pytest.approx((0.1, 0.2, 0.3, 0.4))
+    assert table.source == str(tmp_path / "t.mcap")
+    assert Table2.decode(json.loads(json.dumps(table.encode()))) == table
     assert "| min-time | poly5 | exact | 3/3 | 1.50 | 30 |" in table_markdown(table)
 
 
@@ -93,21 +105,19 @@ def test_lost_samples_are_counted_never_integrated_over(tmp_path):
     second = range(100 + 400 + 200, 100 + 400 + 205)  # five ticks inside the second move
     table = table_from_recording(_write(tmp_path / "lost.mcap", lost=set(second)))
     (row,) = table.rows
-    assert [m.samples_missing for m in row.moves] == [0, 5, 0]
-    assert math.isnan(row.moves[1].energy_measured_j) and len(row.measured) == 2
+    m = row.measured
+    assert m.state_samples_missing == (0, 5, 0)
+    assert m.energies_j[1] is None and m.moves_measured == 2 and m.moves_completed == 3
     first, third = (amp_w * amp_q * (n / 1000) / (2 * math.pi) for n, _e, amp_w, amp_q in MOVES[::2])
-    assert row.energy_measured_j == pytest.approx(first + third, rel=1e-4)
+    assert m.energy_measured_j == pytest.approx(first + third, rel=1e-4)
     assert row.energy_error_pct == pytest.approx((18.0 - first - third) / 18.0 * 100.0, rel=1e-4)
-    assert row.setpoint_samples_missing == 5 and row.idle_ticks == [0, GAP]
-    data = row.to_json()
-    assert data["energy_measured_per_move_j"][1] is None and data["moves_measured"] == 2
-    assert (data["state_samples_missing"], data["setpoint_samples_missing"]) == (5, 5)
+    assert m.setpoint_samples_missing == 5 and m.idle_ticks == (0, GAP)
     assert "5 state samples within 1 moves (left out of E_exp and E%" in table_markdown(table)
 
 
 def test_the_accounting_is_the_plans(tmp_path):
     table = table_from_recording(_write(tmp_path / "s.mcap", accounting="signed"))
-    assert [m.energy_measured_j for m in table.rows[0].moves] == pytest.approx([0, 0, 0], abs=1e-9)
+    assert table.rows[0].measured.energies_j == pytest.approx([0, 0, 0], abs=1e-9)
 
 
 def test_a_recording_without_plans_is_a_clear_error(tmp_path):

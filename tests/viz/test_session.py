@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 from axisflow.acquisition import read_joint_states
 from axisflow.model import EXECUTION_PERIOD_S, EnergyAccounting, default_params, trace_energy
+from axisflow.model.files import OutputError
 from axisflow.viz.entities import AxisEntities
-from axisflow.viz.outputs import OutputError
 from axisflow.viz.session import SessionLogs, write_session_rrd
 from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
@@ -116,7 +116,12 @@ def test_moves_energy_equals_table2_and_waypoints_the_plans(test_log, session_rr
     energy = data["/axes/a0/energy/measured"]
     assert energy.stamp_ns.tolist() == ends
     table = table_from_recording(test_log.path)
-    reference = [m.energy_measured_j for row in table.rows for m in row.moves if m.completed is not None]
+    reference = [
+        energy
+        for row in table.rows
+        for energy, completed in zip(row.measured.energies_j, row.measured.completed, strict=True)
+        if completed
+    ]
     assert energy.scalars().tolist() == reference
     # and by hand: the trapezoid of τ_m·ω_m over the move's ticks, both ends included
     motor = read_joint_states(test_log.path, "/axisflow/a0/state").joint("motor")

@@ -1,0 +1,112 @@
+"""The roles of a secure deployment and what each kind may do.
+
+A role is a certificate identity (its common name): ``planner``, ``bridge``, ``recorder``, or one of
+these kinds followed by ``-NAME`` (``planner-cell2``: another planner with its own certificate and
+the same rights). :data:`ROLE_GRANTS` lists everything a kind may do; the access-control list
+(:mod:`.access_control`) denies anything else.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+from .errors import SecurityArgumentError
+
+ROUTER = "router"
+"""the router's certificate common name and file stem (reserved: not a role name)"""
+DEFAULT_ROLES = ("planner", "bridge", "recorder")
+
+
+@dataclass(frozen=True)
+class Grant:
+    """One ACL rule of a role: ``messages`` allowed on ``<prefix>/<suffix>`` keys in one direction.
+
+    ``flow`` is seen from the router: ``ingress`` = sent by the role, ``egress`` = delivered to it.
+    Zenoh allows a message when a granted key expression *includes* the message's key expression.
+    """
+
+    flow: str
+    messages: tuple[str, ...]
+    suffixes: tuple[str, ...]
+
+
+ROLE_GRANTS: dict[str, tuple[Grant, ...]] = {
+    # the planner commands: moves and quick stops, its sender token; it reads what MoveSender and
+    # AxisState read (events, state, setpoint, the bridge's token)
+    "planner": (
+        Grant("ingress", ("put",), ("*/trajectory", "*/stop")),
+        Grant("ingress", ("liveliness_token",), ("*/sender/*",)),
+        Grant("ingress", ("declare_subscriber",), ("*/event", "*/state", "*/setpoint")),
+        Grant("ingress", ("declare_liveliness_subscriber", "liveliness_query"), ("*/alive",)),
+        Grant("egress", ("put",), ("*/event", "*/state", "*/setpoint")),
+        Grant("egress", ("liveliness_token",), ("*/alive",)),
+        Grant("egress", ("declare_subscriber",), ("**",)),  # who listens to its moves (matching)
+    ),
+    # the bridge publishes telemetry and events and its token; it reads moves, stops, sender tokens
+    "bridge": (
+        Grant("ingress", ("put",), ("*/state", "*/setpoint", "*/event")),
+        Grant("ingress", ("liveliness_token",), ("*/alive",)),
+        Grant("ingress", ("declare_subscriber",), ("*/trajectory", "*/stop")),
+        Grant("ingress", ("declare_liveliness_subscriber", "liveliness_query"), ("*/sender/*",)),
+        Grant("egress", ("put",), ("*/trajectory", "*/stop")),
+        Grant("egress", ("liveliness_token",), ("*/sender/*",)),
+        Grant("egress", ("declare_subscriber",), ("**",)),  # who listens to its telemetry
+    ),
+    # the recorder only listens: every key and token under the prefix, never a put
+    "recorder": (
+        Grant("ingress", ("declare_subscriber",), ("**",)),
+        Grant("ingress", ("declare_liveliness_subscriber", "liveliness_query"), ("**",)),
+        Grant("egress", ("put",), ("**",)),
+        Grant("egress", ("liveliness_token",), ("**",)),
+    ),
+}
+"""everything each kind of role may do; anything else is denied (``default_permission: deny``)"""
+
+_ROLE_NAME = re.compile(r"^(?P<kind>[a-z]+)(?:-(?P<suffix>[a-z0-9][a-z0-9_-]{0,30}))?$")
+
+
+def role_kind(name: str) -> str:
+    """The kind of a role name: ``planner``, ``bridge``, ``recorder``, or one of them followed by
+    ``-NAME`` (``planner-cell2``: another planner identity with its own certificate)."""
+    m = _ROLE_NAME.match(name)
+    if m is None or m["kind"] not in ROLE_GRANTS:
+        raise SecurityArgumentError(
+            f"role {name!r} is not one of {', '.join(ROLE_GRANTS)} (or one of them followed by -NAME of "
+            "lower-case letters, digits, '-' or '_', e.g. planner-cell2)"
+        )
+    return m["kind"]
+
+
+def parse_roles(text: str) -> tuple[str, ...]:
+    """``planner,bridge,recorder`` → the role names, checked (known kind, no duplicate)."""
+    names = tuple(part.strip() for part in text.split(","))
+    if not any(names):
+        raise SecurityArgumentError(f"--roles {text!r} names no role (e.g. {','.join(DEFAULT_ROLES)})")
+    for name in names:
+        role_kind(name)
+    duplicates = sorted({n for n in names if names.count(n) > 1})
+    if duplicates:
+        raise SecurityArgumentError(f"--roles {text!r} names {', '.join(duplicates)} more than once")
+    return names
+
+
+def check_roles(roles: tuple[str, ...]) -> None:
+    """At least one role, each of a known kind, none twice; else a :class:`SecurityArgumentError`."""
+    if not roles:
+        raise SecurityArgumentError("no role given: at least one of planner, bridge, recorder")
+    for name in roles:
+        role_kind(name)
+    if len(set(roles)) != len(roles):
+        raise SecurityArgumentError(f"roles {', '.join(roles)} name a role more than once")
+
+
+def how_to_run(directory: Path, role: str) -> str:
+    """One line saying how to start ``role`` with its file in ``directory``."""
+    config = directory / f"{role}.json5"
+    return {
+        "planner": f"  {role}: open_session(ZenohOptions(config_file=Path('{config}')))",
+        "bridge": f"  axisflow bridge --sim --zenoh-config {config}",
+        "recorder": f"  axisflow record -o session.mcap --zenoh-config {config}",
+    }[role_kind(role)]
