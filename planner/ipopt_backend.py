@@ -25,7 +25,7 @@ import casadi as ca
 import numpy as np
 
 from ..model import AxisParams, EnergyAccounting, MoveError, PolynomialLaw, friction_expression
-from .evaluation import finish, require_feasible_bounds
+from .evaluation import finish, is_zero_move, require_feasible_bounds, zero_move_result
 from .problem import Case, MoveProblem
 from .result import PlanResult, SolveStatus
 
@@ -34,6 +34,8 @@ _STATUS = {
     "Solved_To_Acceptable_Level": SolveStatus.CONVERGED,
     "Maximum_Iterations_Exceeded": SolveStatus.ITERATION_CAP,
     "Infeasible_Problem_Detected": SolveStatus.INFEASIBLE,
+    "Maximum_WallTime_Exceeded": SolveStatus.DEADLINE,
+    "Maximum_CpuTime_Exceeded": SolveStatus.DEADLINE,
 }
 
 
@@ -49,10 +51,15 @@ class IpoptSettings:
     """number of intervals of the constraint/quadrature grid (even)"""
     limit_margin: float = 1e-3
     """relative tightening of the velocity and torque limits inside the NLP"""
+    max_wall_time_s: float = 1.0
+    """IPOPT's wall-clock deadline per solve [s] (its ``max_wall_time``; a capped solve takes ~5 ms):
+    past it the result has the status :attr:`SolveStatus.DEADLINE` and IPOPT's last iterate"""
 
     def __post_init__(self) -> None:
         if self.max_iter < 1:
             raise MoveError(f"IPOPT max_iter = {self.max_iter} must be >= 1")
+        if not 0.0 < self.max_wall_time_s < math.inf:
+            raise MoveError(f"IPOPT max_wall_time_s = {self.max_wall_time_s} s must be finite and > 0 s")
         if self.nodes < 2 or self.nodes % 2:
             raise MoveError(f"IPOPT nodes = {self.nodes} must be an even number >= 2")
         if not 0.0 <= self.limit_margin < 0.5:
@@ -97,6 +104,7 @@ def _build(
         "ipopt.sb": "yes",
         "ipopt.max_iter": settings.max_iter,
         "ipopt.tol": settings.tol,
+        "ipopt.max_wall_time": settings.max_wall_time_s,
     }
     return ca.nlpsol(
         f"axisflow_{law.name}_{case.name.lower()}", "ipopt", {"x": T, "p": p, "f": f, "g": g}, opts
@@ -134,19 +142,10 @@ class IpoptBackend:
         _build(problem.law, problem.case, params.energy_accounting, self.settings)
 
     def solve(self, problem: MoveProblem, params: AxisParams) -> PlanResult:
+        if is_zero_move(problem, params):
+            return zero_move_result(problem, params, self.name)
         require_feasible_bounds(problem, params)
         d = problem.distance_m
-        if d == 0.0:
-            return finish(
-                problem,
-                params,
-                solver=self.name,
-                status=SolveStatus.CONVERGED,
-                duration_s=problem.t_min_s,
-                iterations=0,
-                solve_time_s=0.0,
-                message="zero-length move",
-            )
         nlp = _build(problem.law, problem.case, params.energy_accounting, self.settings)
         keep = 1.0 - self.settings.limit_margin
         pvals = [

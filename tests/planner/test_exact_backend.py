@@ -9,6 +9,7 @@ from axisflow.model import (
     EnergyAccounting,
     Move,
     MoveError,
+    ParameterError,
     default_params,
     forward_friction,
     move_energy,
@@ -231,7 +232,7 @@ def test_agreement_with_a_converged_ipopt_on_a_few_hundred_moves():
 
 def test_zero_length_move_and_infeasible_bounds(params):
     sol = solve_exact(MoveProblem(0.4, 0.4, "poly5", Case.MIN_TIME), params)
-    assert sol.duration_s == 0.1 and sol.active is Active.ZERO_LENGTH and sol.certificate is None
+    assert sol.duration_s == 0.0 and sol.active is Active.ZERO_LENGTH and sol.certificate is None
     with pytest.raises(
         InfeasibleMoveError, match=r"no duration in \[0.1, 0.2\] s keeps the poly5 move 0 m → 0.8 m"
     ):
@@ -242,13 +243,19 @@ def test_zero_length_move_and_infeasible_bounds(params):
         make_backend("exact", max_iter=3)
 
 
-@pytest.mark.parametrize("case", list(Case))
-def test_an_axis_whose_torque_limit_cannot_beat_coulomb_friction_is_infeasible(params, case):
-    weak = params.replace(tau_max=0.25)  # F_max = 62.5 N < a1 = 72 N
+def test_an_axis_whose_torque_limit_cannot_beat_coulomb_friction_is_refused(params):
+    """F_max ≤ a1 leaves no move to plan: the parameters themselves are refused."""
     with pytest.raises(
-        InfeasibleMoveError, match=r"F_max = 62.5 N, not above the Coulomb friction a1 = 72.0 N"
+        ParameterError, match=r"F_max = tau_max·i_r/r = 62.5 N, not above the Coulomb friction"
     ):
-        make_backend("exact").solve(MoveProblem(0.1, 0.5, "poly5", case), weak)
+        params.replace(tau_max=0.25)
+
+
+def test_an_axis_just_above_coulomb_friction_plans_or_says_infeasible(params):
+    """F_max = 75 N > a1 = 72 N: the axis creeps (friction-limited); a long move does not fit 3 s."""
+    weak = params.replace(tau_max=0.3)
+    with pytest.raises(InfeasibleMoveError, match=r"no duration in \[0.1, 3.0\] s"):
+        make_backend("exact").solve(MoveProblem(0.1, 0.5, "poly5"), weak)
 
 
 def test_duration_bounds_beyond_the_longest_move_are_refused():

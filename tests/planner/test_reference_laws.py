@@ -8,6 +8,7 @@ from axisflow.model import (
     EnergyAccounting,
     Move,
     MoveError,
+    ParameterError,
     default_params,
     forward_friction,
     move_energy,
@@ -15,7 +16,7 @@ from axisflow.model import (
 )
 from axisflow.planner import Case, InfeasibleMoveError, MoveProblem
 from axisflow.planner.exact import solve_exact
-from axisflow.planner.reference_laws import ReferenceLawError, least_energy, plan_reference, time_optimal
+from axisflow.planner.reference_laws import least_energy, plan_reference, time_optimal
 from scipy.integrate import solve_ivp
 
 
@@ -112,8 +113,8 @@ def test_plan_reference_and_errors(params):
         plan_reference("bang", 0.6, params, minimise_time=False)
     with pytest.raises(InfeasibleMoveError, match=r"no duration in \[0.1, 0.2\] s"):
         plan_reference("bang", 0.8, params, t_max_s=0.2)
-    with pytest.raises(ReferenceLawError, match=r"a1 = 72.0 N is not below the force limit F_max = 25 N"):
-        time_optimal(0.5, params.replace(tau_max=0.1))
+    with pytest.raises(ParameterError, match=r"F_max = tau_max·i_r/r = 25 N, not above the Coulomb friction"):
+        params.replace(tau_max=0.1)
     with pytest.raises(MoveError, match="longer than the stroke"):
         time_optimal(0.9, params)
 
