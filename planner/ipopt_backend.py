@@ -5,7 +5,8 @@ The NLP in the duration T (bounds T_min ≤ T ≤ T_max):
     case 1:  min w0·T
     case 2:  min ω·T + (1 − ω)·T·Σ_k w_k·g(F_k·ẋ_k)        (Simpson weights w_k over N+1 nodes)
     s.t.     c_v·|d| − v_max·T ≤ 0                          (peak velocity, exact: c_v = max|s'|)
-             −τ_lim ≤ (r/i_r)·F_k ≤ τ_lim,  k = 0…N         (motor torque at the nodes u_k = k/N)
+             −τ_lim ≤ (r/i_r)·F_k ≤ τ_lim                   (motor torque at the nodes u_k = k/N,
+                                                              and 8 graded towards each end)
 
 with ẋ_k = d·s'(u_k)/T, ẍ_k = d·s''(u_k)/T², F_k by eq. (1) using sign(ẋ) = sign(d) (its value just
 inside the move). The limits are tightened by ``limit_margin`` (0.1 % by default) so that the
@@ -66,6 +67,19 @@ class IpoptSettings:
             raise MoveError(f"IPOPT limit_margin = {self.limit_margin} must be in [0, 0.5)")
 
 
+_END_NODES = 8
+"""extra torque-constraint nodes graded towards each end of the move, in (1e-4, 1/N): where ẋ → 0 the
+low-speed friction a3·atan(a4·ẋ) climbs within a small fraction of the move (with a large a4), and
+with poly3's non-zero acceleration at the ends the torque peaks there, between the uniform nodes"""
+
+
+def _constraint_nodes(n: int) -> np.ndarray:
+    """u of the torque constraints: the N + 1 uniform nodes and :data:`_END_NODES` graded towards each
+    end."""
+    near = np.geomspace(1e-4, 1.0 / n, _END_NODES + 1)[:-1]
+    return np.concatenate([np.linspace(0.0, 1.0, n + 1), near, 1.0 - near])
+
+
 def _simpson_weights(n: int) -> np.ndarray:
     w = np.ones(n + 1)
     w[1:-1:2] = 4.0
@@ -77,7 +91,7 @@ def _simpson_weights(n: int) -> np.ndarray:
 def _build(
     law: PolynomialLaw, case: Case, accounting: EnergyAccounting, settings: IpoptSettings
 ) -> ca.Function:
-    u = np.linspace(0.0, 1.0, settings.nodes + 1)
+    u = _constraint_nodes(settings.nodes)  # the first N + 1: the uniform grid of the quadrature
     s1 = ca.DM(law.shape(u, 1))
     s2 = ca.DM(law.shape(u, 2))
     T = ca.SX.sym("T")
@@ -91,7 +105,8 @@ def _build(
     if case is Case.MIN_TIME:
         f = w0 * T
     else:
-        power = force * v
+        grid = settings.nodes + 1
+        power = force[:grid] * v[:grid]
         if accounting is EnergyAccounting.POSITIVE:
             power = ca.fmax(power, 0)
         elif accounting is EnergyAccounting.ABSOLUTE:
@@ -163,14 +178,15 @@ class IpoptBackend:
             problem.omega,
             problem.w0,
         ]
+        constraints = self.settings.nodes + 1 + 2 * _END_NODES
         t0 = time.perf_counter()
         sol = nlp(
             x0=initial_guess(problem, params),
             p=pvals,
             lbx=problem.t_min_s,
             ubx=problem.t_max_s,
-            lbg=ca.vertcat(-ca.inf, -ca.DM.ones(self.settings.nodes + 1) * pvals[10]),
-            ubg=ca.vertcat(0.0, ca.DM.ones(self.settings.nodes + 1) * pvals[10]),
+            lbg=ca.vertcat(-ca.inf, -ca.DM.ones(constraints) * pvals[10]),
+            ubg=ca.vertcat(0.0, ca.DM.ones(constraints) * pvals[10]),
         )
         elapsed = time.perf_counter() - t0
         stats = nlp.stats()
