@@ -25,7 +25,7 @@ from axisflow.planner import (
     make_backend,
 )
 from axisflow.planner.evaluation import objective
-from axisflow.planner.exact import Active, solve_exact
+from axisflow.planner.exact import Active, ExactBackend, solve_exact
 
 LAWS = ["poly3", "poly5", "poly7"]
 U = np.linspace(0.0, 1.0, 20001)
@@ -334,3 +334,29 @@ def test_certificates_prove_what_they_claim(params):
     assert inner.active is Active.OPTIMUM
     assert c.t_lower_s < inner.duration_s < c.t_upper_s <= c.t_lower_s * (1 + 1e-8)
     assert 0.0 <= c.gap_j <= 1e-12 * inner.objective
+
+
+@pytest.mark.parametrize(
+    "problem",
+    [
+        MoveProblem(0.1, 0.5, "poly5", Case.MIN_TIME),  # the torque limit's Newton solve
+        MoveProblem(0.05, 0.1, "poly3", Case.MIN_TIME_ENERGY),  # the secant search of the braking optimum
+    ],
+    ids=["min-time", "min-time-energy"],
+)
+def test_a_solve_past_its_deadline_is_a_status_with_the_slowest_duration(params, problem):
+    """The deadline is checked inside the solver's loops (a closed-form answer has none to check);
+    past it the result says so, with T_max as its duration (never a hang)."""
+    result = ExactBackend(deadline_s=1e-12).solve(problem, params)
+    assert result.status is SolveStatus.DEADLINE and not result.success
+    assert result.duration_s == problem.t_max_s and result.max_violation == 0.0
+    assert "ran past its deadline of 1e-12 s" in result.message
+
+
+def test_a_zero_move_has_nothing_to_execute(params):
+    result = make_backend("exact").solve(MoveProblem(0.3, 0.3 + 1e-6, "poly5"), params)
+    assert result.zero_move and result.duration_s == 0.0 and result.energy_j == 0.0
+    with pytest.raises(MoveError, match=r"is a zero move \(shorter than one encoder count\)"):
+        _ = result.move
+    one_count = 2 * math.pi * params.r / 131072
+    assert not make_backend("exact").solve(MoveProblem(0.3, 0.3 + one_count, "poly5"), params).zero_move
