@@ -192,3 +192,13 @@ def test_offline_table2_lands_within_ten_percent_of_the_paper(tmp_path):
         paper = PAPER_TABLE2[(row["case"], row["law"])]
         assert row["total_time_s"] == pytest.approx(paper.total_time_s, rel=0.10), row["law"]
         assert row["energy_model_j"] == pytest.approx(paper.energy_model_j, rel=0.10), row["law"]
+
+
+def test_params_help_shows_every_physical_range(capsys):
+    from axisflow.model.parameter_ranges import ranges_table
+
+    with pytest.raises(SystemExit):
+        main(["params", "--help"])
+    shown = capsys.readouterr().out
+    for key, text, why in ranges_table():
+        assert f"{key:<8} {text:<22} {why}" in shown, key

@@ -117,3 +117,13 @@ def test_a_binary_file_is_named_as_not_text(tmp_path):
 
 def test_file_keys_cover_every_field():
     assert set(FILE_KEYS) == set(AxisParams.__dataclass_fields__)
+
+
+def test_the_ranges_in_the_docs_are_the_code_s():
+    from pathlib import Path
+
+    from axisflow.model.parameter_ranges import ranges_table
+
+    docs = (Path(__file__).parents[2] / "docs" / "parameters.md").read_text("utf-8")
+    for key, text, why in ranges_table():
+        assert f"| {key} | {text} | {why} |" in docs, key
