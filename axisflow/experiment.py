@@ -135,7 +135,8 @@ class ExperimentRow:
                     "t_limit_s": [m.time_limit_s for m in self.limits],
                     "e_limit_j": [m.energy_limit_j for m in self.limits],
                     "t_limit_ratios": [
-                        r.duration_s / m.time_limit_s for r, m in zip(self.results, self.limits, strict=True)
+                        r.duration_s / m.time_limit_s if m.time_limit_s > 0 else None  # a zero move
+                        for r, m in zip(self.results, self.limits, strict=True)
                     ],
                     "e_limit_ratios": [
                         r.energy_j / m.energy_limit_j if m.energy_limit_j > 0 else None

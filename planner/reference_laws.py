@@ -261,9 +261,9 @@ def least_energy(
     fastest = time_optimal(distance_m, params)
     D = fastest.distance_m
     T = float(duration_s)
-    if not math.isfinite(T) or T <= 0.0:
+    if not math.isfinite(T) or T < 0.0 or (T == 0.0 and D > 0.0):
         raise MoveError(f"duration_s = {duration_s} s must be a finite number > 0 s")
-    if D == 0.0:
+    if D == 0.0:  # a zero move (shorter than one encoder count): any duration, 0 included
         return fastest
     if fastest.duration_s * (1 - 1e-12) > T:
         raise InfeasibleMoveError(

@@ -202,3 +202,20 @@ def test_params_help_shows_every_physical_range(capsys):
     shown = capsys.readouterr().out
     for key, text, why in ranges_table():
         assert f"{key:<8} {text:<22} {why}" in shown, key
+
+
+def test_an_experiment_row_with_zero_moves_compares_the_rest_with_the_limit():
+    import numpy as np
+    from axisflow.model import default_params
+    from axisflow.planner import Case, make_backend
+
+    from axisflow.experiment import physical_limits, plan_row
+
+    params = default_params()
+    points = np.array([0.1, 0.1, 0.1 + 1e-7, 0.5])  # two zero moves, then 0.4 m
+    row = physical_limits(
+        plan_row(points, Case.MIN_TIME_ENERGY, "poly5", make_backend("exact"), params, 0.9), params
+    )
+    ratios = row.extra_json()["t_limit_ratios"]
+    assert ratios[:2] == [None, None] and ratios[2] > 1.0
+    assert row.durations_s[:2] == [0.0, 0.0] and row.total_time_s == row.durations_s[2]
