@@ -14,6 +14,15 @@ For each run (a case × law over the way points) the node
    run with the bridge's reason; a move that starts later than the end of the one before (the queue
    ran dry: the plan was late) ends it too, naming the move and the idle ticks.
 
+A move shorter than one encoder count (a repeated way point, a way point within a count of the one
+before) is a zero move (:func:`~axisflow.planner.evaluation.zero_move_result`): nothing is sent or
+published for it, and the next move follows the one before it (its start lies within one count of
+the axis, inside the bridge's jump tolerance). The report counts such moves.
+
+The node checks its stop event (set by SIGINT/SIGTERM) before each plan and while it waits for
+statuses; every solve is bounded (the back-ends' iteration caps and deadlines), so a stop ends a run
+within one solve.
+
 Per move it reports the solve time and the **slack**: the drive time between the bridge accepting the
 move (the plan ready, sent, validated) and the move's start. Drive time is the bridge's clock: at
 ``--speed 1`` it is wall time; at ``--speed 0`` the bridge runs as fast as its consumers allow and
@@ -41,9 +50,10 @@ from .acquisition.bus.axis_state import AxisState
 from .acquisition.bus.move_sender import BRIDGE_TIMEOUT_S, MoveSender
 from .acquisition.bus.publisher import SequencedPublisher, Traffic
 from .model import AxisflowError, AxisParams, polynomial_law
-from .planner import Case, ExactBackend, MoveProblem, PlannerBackend, PlanResult
+from .planner import Case, ExactBackend, MoveProblem, PlannerBackend, PlanResult, SolveStatus
 
-_AT_WAYPOINT_M = 1e-9
+_REFUSED_STATUSES = (SolveStatus.DEADLINE, SolveStatus.FAILED, SolveStatus.INFEASIBLE)
+"""plan statuses the node never sends (a capped IPOPT iterate is sent when it meets the limits)"""
 
 
 class PlanLateError(AxisflowError):
@@ -81,6 +91,8 @@ class RunReport:
     run: NodeRun
     solver: str
     moves: list[MoveOutcome] = field(default_factory=list)
+    zero_moves: list[int] = field(default_factory=list)
+    """way point indices k whose move k − 1 → k is a zero move (not sent)"""
 
     @property
     def experiment(self) -> list[MoveOutcome]:
@@ -99,8 +111,12 @@ class RunReport:
         slack_ms = np.array([m.slack_s * 1e3 for m in moves[1:]]) if len(moves) > 1 else np.array([math.nan])
         total = math.fsum(m.plan.duration_s for m in moves)
         energy = math.fsum(m.plan.energy_j for m in moves)
+        zero = f" (+{len(self.zero_moves)} zero moves, not sent)" if self.zero_moves else ""
+        head = f"{self.run.case.value} {self.run.law} ({self.solver}): {len(moves)} moves{zero}"
+        if not moves:
+            return head
         return (
-            f"{self.run.case.value} {self.run.law} ({self.solver}): {len(moves)} moves, T = {total:.2f} s, "
+            f"{head}, T = {total:.2f} s, "
             f"E_th = {energy:.1f} J, solve {solve_ms.mean():.3f} ± {solve_ms.std():.3f} ms, "
             f"slack min {np.min(slack_ms):.0f} ms, idle ticks {sum(self.idle_ticks)}"
         )
@@ -168,6 +184,7 @@ class PlannerNode:
         reports = []
         x_now = self._setpoint.wait(BRIDGE_TIMEOUT_S).position_m
         for run in self.settings.runs:
+            self._check_stop()
             report = self._run_one(run, waypoints_m, x_now)
             reports.append(report)
             self._say(report.summary())
@@ -184,15 +201,29 @@ class PlannerNode:
         for p in problems:
             p.check_stroke(self.params)
         self.backend.prepare(problems[0], self.params)
-        if abs(x_now - waypoints_m[0]) > _AT_WAYPOINT_M:
-            first = MoveProblem(x_now, float(waypoints_m[0]), polynomial_law("poly5"), Case.MIN_TIME)
-            self._send(report, run, 0, self._plan_exact(first))
+        first = self._plan_exact(
+            MoveProblem(x_now, float(waypoints_m[0]), polynomial_law("poly5"), Case.MIN_TIME)
+        )
+        if not first.zero_move:  # the axis is not within a count of the first way point
+            self._send(report, run, 0, first)
         sent = 0
         while sent < len(problems) and self._wants_more(report, running=1):
-            self._send(report, run, sent + 1, self._plan(problems[sent]))
-            sent += 1
+            sent = self._plan_and_send(report, problems, sent)
         self._follow(report, problems, sent)
         return report
+
+    def _check_stop(self) -> None:
+        if self._stop.is_set():
+            raise KeyboardInterrupt
+
+    def _plan_and_send(self, report: RunReport, problems: list[MoveProblem], sent: int) -> int:
+        """Plan problem ``sent`` and send it, or note it as a zero move; the next problem's index."""
+        plan = self._plan(problems[sent])
+        if plan.zero_move:
+            report.zero_moves.append(sent + 1)
+        else:
+            self._send(report, report.run, sent + 1, plan)
+        return sent + 1
 
     def _wants_more(self, report: RunReport, running: int) -> bool:
         """Whether fewer than the lookahead's moves (or drive time) are queued behind move ``running``."""
@@ -201,7 +232,14 @@ class PlannerNode:
         return len(behind) < self.settings.lookahead or queued_s < self.settings.lookahead_s
 
     def _plan(self, problem: MoveProblem) -> PlanResult:
+        self._check_stop()
         result = self.backend.solve(problem, self.params)
+        if result.status in _REFUSED_STATUSES:
+            raise AxisflowError(
+                f"the {result.solver} plan of the move {problem.x0_m:.6g} → {problem.x1_m:.6g} m "
+                f"({problem.law.name}, {problem.case.value}) failed: status {result.status.value} "
+                f"({result.message})"
+            )
         if result.max_violation > 0.0:
             raise AxisflowError(
                 f"the {result.solver} plan of the move {problem.x0_m:.6g} → {problem.x1_m:.6g} m "
@@ -211,6 +249,7 @@ class PlannerNode:
         return result
 
     def _plan_exact(self, problem: MoveProblem) -> PlanResult:
+        self._check_stop()
         return ExactBackend().solve(problem, self.params)
 
     def _send(self, report: RunReport, run: NodeRun, index: int, plan: PlanResult) -> None:
@@ -247,8 +286,13 @@ class PlannerNode:
         """Wait on the statuses of the run's moves; plan the next one each time one starts."""
         pending = {m.command.move_id: m for m in report.moves}
         while pending or sent < len(problems):
-            if self._stop.is_set():
-                raise KeyboardInterrupt
+            self._check_stop()
+            if not pending:  # nothing runs (the moves so far were zero moves): plan on
+                count = len(report.moves)
+                sent = self._plan_and_send(report, problems, sent)
+                if len(report.moves) > count:
+                    pending[report.moves[-1].command.move_id] = report.moves[-1]
+                continue
             new = self._sender.poll_status()
             if not new:
                 if not self._sender.bridge_alive:
@@ -266,10 +310,10 @@ class PlannerNode:
                 while status.state is MoveState.STARTED and sent < len(problems):
                     if not self._wants_more(report, running=outcome.index):
                         break
-                    nxt = self._plan(problems[sent])
-                    sent += 1
-                    self._send(report, report.run, sent, nxt)
-                    pending[report.moves[-1].command.move_id] = report.moves[-1]
+                    count = len(report.moves)
+                    sent = self._plan_and_send(report, problems, sent)
+                    if len(report.moves) > count:
+                        pending[report.moves[-1].command.move_id] = report.moves[-1]
 
     def _on_status(self, report: RunReport, outcome: MoveOutcome, status: MoveStatus) -> None:
         if status.state in (MoveState.REJECTED, MoveState.DROPPED, MoveState.STOPPED):
@@ -278,13 +322,15 @@ class PlannerNode:
             )
         if status.state is MoveState.ACCEPTED:
             outcome.accepted = status
-            before = [m for m in report.moves if m.index > 0 and m.index == outcome.index - 1]
-            if outcome.index > 1 and before and before[0].accepted is not None:
-                idle = status.start_tick - before[0].accepted.end_tick
+            # the move sent before it (zero moves in between are not sent)
+            k = report.moves.index(outcome)
+            before = report.moves[k - 1] if k > 0 and report.moves[k - 1].index > 0 else None
+            if before is not None and before.accepted is not None:
+                idle = status.start_tick - before.accepted.end_tick
                 if idle > 0:
                     raise PlanLateError(
                         f"move {outcome.index} ({report.run.case.value} {report.run.law}) started {idle} "
-                        f"ticks after move {outcome.index - 1} ended: the plan was late (solve "
+                        f"ticks after move {before.index} ended: the plan was late (solve "
                         f"{outcome.plan.solve_time_s * 1e3:.2f} ms); use a larger --lookahead or a slower "
                         "bridge"
                     )

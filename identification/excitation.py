@@ -191,6 +191,13 @@ def design_excitation(
     return plan
 
 
+_SHRINK = 0.95
+"""the factor of each step of the searches for the largest speed and frequency that fit the limits"""
+_SHRINK_STEPS = 400
+"""their cap: 0.95^400 ≈ 1e-9 spans every v_max of the parameter ranges down to SLOW_SPEED_M_S, and
+MAX_FREQUENCY_HZ down to any slow frequency"""
+
+
 def _settings(params: AxisParams, a_max: float, torque_margin: float, speed_margin: float) -> list[Burst]:
     """(amplitude, frequency) pairs: per velocity level a slow and a fast frequency, slowest first."""
     tau_budget = torque_margin * params.tau_max
@@ -201,9 +208,11 @@ def _settings(params: AxisParams, a_max: float, torque_margin: float, speed_marg
 
     # the highest level: at the slowest frequency the stroke allows, the burst fits the torque margin
     v_top = speed_margin * params.v_max
-    while v_top > SLOW_SPEED_M_S and not fits(v_top, _slow_frequency(v_top, a_max)):
-        v_top *= 0.95
-    if v_top <= SLOW_SPEED_M_S:
+    for _ in range(_SHRINK_STEPS):
+        if v_top <= SLOW_SPEED_M_S or fits(v_top, _slow_frequency(v_top, a_max)):
+            break
+        v_top *= _SHRINK
+    if v_top <= SLOW_SPEED_M_S or not fits(v_top, _slow_frequency(v_top, a_max)):
         raise MoveError(
             f"no excitation fits the limits: friction at {SLOW_SPEED_M_S} m/s already needs "
             f"{forward_friction(SLOW_SPEED_M_S, params):.4g} N of the {torque_margin * params.f_max:.4g} N "
@@ -214,8 +223,10 @@ def _settings(params: AxisParams, a_max: float, torque_margin: float, speed_marg
         v = float(v)
         slow = _slow_frequency(v, a_max)
         fast = MAX_FREQUENCY_HZ
-        while fast > slow and not fits(v, fast):
-            fast *= 0.95
+        for _ in range(_SHRINK_STEPS):
+            if fast <= slow or fits(v, fast):
+                break
+            fast *= _SHRINK
         bursts.append(Burst(v / (2.0 * math.pi * slow), slow, MIN_HOLD_PERIODS))
         if fast > 1.2 * slow:
             bursts.append(Burst(v / (2.0 * math.pi * fast), fast, MIN_HOLD_PERIODS))

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .deadline import Deadline
 from .errors import MoveError
 from .friction import forward_friction
 from .params import AxisParams
@@ -27,6 +28,11 @@ from .sampling import EXECUTION_PERIOD_S
 from .trajectory import SampledTrajectory
 
 _MAX_STEPS = 1_000_000
+"""the cap of the integration: 1000 s of braking at 1 ms steps"""
+_DEADLINE_S = 10.0
+"""the integration's wall-clock deadline [s] (a stop from v_max on the default axis: ~0.2 ms of work)"""
+_DEADLINE_EVERY = 1024
+"""steps between two looks at the clock"""
 
 
 @dataclass(frozen=True)
@@ -43,10 +49,17 @@ def braking_acceleration(speed_m_s: float, params: AxisParams, force_fraction: f
     return -(force_fraction * params.f_max + float(forward_friction(speed_m_s, params))) / params.M_eq
 
 
-def stop_profile(x0_m: float, v0_m_s: float, params: AxisParams, force_fraction: float = 1.0) -> StopProfile:
+def stop_profile(
+    x0_m: float,
+    v0_m_s: float,
+    params: AxisParams,
+    force_fraction: float = 1.0,
+    deadline_s: float = _DEADLINE_S,
+) -> StopProfile:
     """The fastest stop from position ``x0_m`` and velocity ``v0_m_s`` (either sign) with a fraction
     ``force_fraction`` ∈ [0, 1] of the motor's force (see the module docstring); 0 is a coast to rest
-    on friction alone (a drive whose power stage is off)."""
+    on friction alone (a drive whose power stage is off). The integration is capped at 10⁶ steps
+    (:class:`MoveError`) and ``deadline_s`` of wall time (:class:`~.deadline.DeadlineError`)."""
     if not 0.0 <= force_fraction <= 1.0:
         raise MoveError(f"braking force fraction = {force_fraction} must be in [0, 1]")
     if not (math.isfinite(x0_m) and math.isfinite(v0_m_s)):
@@ -70,7 +83,10 @@ def stop_profile(x0_m: float, v0_m_s: float, params: AxisParams, force_fraction:
         dx = h / 6.0 * (v + 2 * (v + 0.5 * h * k1) + 2 * (v + 0.5 * h * k2) + (v + h * k3))
         return dv, dx
 
+    deadline = Deadline(deadline_s, f"the stop from {v0_m_s} m/s")
     while vs[-1] > 0.0:
+        if len(ts) % _DEADLINE_EVERY == 0:
+            deadline.check("the integration to rest")
         if len(ts) > _MAX_STEPS:  # pragma: no cover - a stop from v_max takes well under a second
             raise MoveError(f"a stop from {v0_m_s} m/s does not end within {_MAX_STEPS} ms")
         v, x = vs[-1], xs[-1]

@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from .errors import ParameterError
+from .parameter_ranges import PARAMETER_RANGES, check_combination, check_range
 from .toml_file import read_toml
 from .units import PARAMETER_UNITS, with_unit
 
@@ -34,13 +35,10 @@ class EnergyAccounting(StrEnum):
     ABSOLUTE = "absolute"
 
 
-_STRICTLY_POSITIVE = ("m", "J_m", "J_g", "J_p", "r", "i_r", "L", "v_max", "tau_max")
-_NON_NEGATIVE = ("a1", "a2", "a3", "a4")
-
-
 @dataclass(frozen=True)
 class AxisParams:
-    """Physical parameters of the belt-driven axis (SI units)."""
+    """Physical parameters of the belt-driven axis (SI units), each inside its physical range and
+    together describing an axis that can move (:mod:`.parameter_ranges`)."""
 
     m: float
     """cart mass [kg]"""
@@ -71,7 +69,7 @@ class AxisParams:
     energy_accounting: EnergyAccounting = EnergyAccounting.POSITIVE
 
     def __post_init__(self) -> None:
-        for name in _STRICTLY_POSITIVE + _NON_NEGATIVE:
+        for name in PARAMETER_RANGES:
             value = getattr(self, name)
             unit = PARAMETER_UNITS[name]
             if isinstance(value, bool) or not isinstance(value, int | float):
@@ -80,15 +78,15 @@ class AxisParams:
                 )
             if not math.isfinite(value):
                 raise ParameterError(f"parameter {name} = {with_unit(value, unit)} is not finite")
-            if name in _STRICTLY_POSITIVE and value <= 0:
-                raise ParameterError(
-                    f"parameter {name} = {with_unit(value, unit)} must be > {with_unit(0, unit)}"
-                )
-            if name in _NON_NEGATIVE and value < 0:
-                raise ParameterError(
-                    f"parameter {name} = {with_unit(value, unit)} must be >= {with_unit(0, unit)}"
-                )
+            check_range(name, value)
             object.__setattr__(self, name, float(value))
+        check_combination(
+            r=self.r,
+            i_r=self.i_r,
+            a1=self.a1,
+            v_max=self.v_max,
+            tau_max=self.tau_max,
+        )
         try:
             accounting = EnergyAccounting(self.energy_accounting)
         except ValueError:

@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..model import AxisParams, Move, check_limits, move_energy
+from ..model.encoder import encoder_resolution_m
 from .certificates import Certificate
 from .errors import InfeasibleMoveError
 from .problem import Case, MoveProblem
@@ -22,6 +23,37 @@ def objective(problem: MoveProblem, duration_s: float, energy_j: float) -> float
     if problem.case is Case.MIN_TIME:
         return problem.w0 * duration_s
     return problem.omega * duration_s + (1.0 - problem.omega) * energy_j
+
+
+def is_zero_move(problem: MoveProblem, params: AxisParams) -> bool:
+    """Whether the move is shorter than one encoder count (:mod:`axisflow.model.encoder`)."""
+    return abs(problem.distance_m) < encoder_resolution_m(params.r)
+
+
+def zero_move_result(problem: MoveProblem, params: AxisParams, solver: str) -> PlanResult:
+    """The plan of a move shorter than one encoder count: a **zero move**, nothing to execute.
+
+    The drive cannot resolve the distance (nor could it tell whether a move of it ran), so the
+    answer is certain and needs no solve: duration 0 s, energy 0 J, objective 0, no violation, status
+    converged. A sender sends nothing for it; the next move starts from the way point after it, which
+    lies within one count of the axis (far inside the bridge's jump tolerance).
+    """
+    problem.check_stroke(params)
+    return PlanResult(
+        problem=problem,
+        solver=solver,
+        status=SolveStatus.CONVERGED,
+        duration_s=0.0,
+        objective=0.0,
+        energy_j=0.0,
+        iterations=0,
+        solve_time_s=0.0,
+        max_violation=0.0,
+        message=(
+            f"zero move: |x1 - x0| = {abs(problem.distance_m):.3g} m is shorter than one encoder count "
+            f"({encoder_resolution_m(params.r):.4g} m): nothing to execute"
+        ),
+    )
 
 
 def require_feasible_bounds(problem: MoveProblem, params: AxisParams) -> None:

@@ -5,7 +5,8 @@ The NLP in the duration T (bounds T_min ≤ T ≤ T_max):
     case 1:  min w0·T
     case 2:  min ω·T + (1 − ω)·T·Σ_k w_k·g(F_k·ẋ_k)        (Simpson weights w_k over N+1 nodes)
     s.t.     c_v·|d| − v_max·T ≤ 0                          (peak velocity, exact: c_v = max|s'|)
-             −τ_lim ≤ (r/i_r)·F_k ≤ τ_lim,  k = 0…N         (motor torque at the nodes u_k = k/N)
+             −τ_lim ≤ (r/i_r)·F_k ≤ τ_lim                   (motor torque at the nodes u_k = k/N,
+                                                              and 8 graded towards each end)
 
 with ẋ_k = d·s'(u_k)/T, ẍ_k = d·s''(u_k)/T², F_k by eq. (1) using sign(ẋ) = sign(d) (its value just
 inside the move). The limits are tightened by ``limit_margin`` (0.1 % by default) so that the
@@ -25,7 +26,7 @@ import casadi as ca
 import numpy as np
 
 from ..model import AxisParams, EnergyAccounting, MoveError, PolynomialLaw, friction_expression
-from .evaluation import finish, require_feasible_bounds
+from .evaluation import finish, is_zero_move, require_feasible_bounds, zero_move_result
 from .problem import Case, MoveProblem
 from .result import PlanResult, SolveStatus
 
@@ -34,6 +35,8 @@ _STATUS = {
     "Solved_To_Acceptable_Level": SolveStatus.CONVERGED,
     "Maximum_Iterations_Exceeded": SolveStatus.ITERATION_CAP,
     "Infeasible_Problem_Detected": SolveStatus.INFEASIBLE,
+    "Maximum_WallTime_Exceeded": SolveStatus.DEADLINE,
+    "Maximum_CpuTime_Exceeded": SolveStatus.DEADLINE,
 }
 
 
@@ -49,14 +52,32 @@ class IpoptSettings:
     """number of intervals of the constraint/quadrature grid (even)"""
     limit_margin: float = 1e-3
     """relative tightening of the velocity and torque limits inside the NLP"""
+    max_wall_time_s: float = 1.0
+    """IPOPT's wall-clock deadline per solve [s] (its ``max_wall_time``; a capped solve takes ~5 ms):
+    past it the result has the status :attr:`SolveStatus.DEADLINE` and IPOPT's last iterate"""
 
     def __post_init__(self) -> None:
         if self.max_iter < 1:
             raise MoveError(f"IPOPT max_iter = {self.max_iter} must be >= 1")
+        if not 0.0 < self.max_wall_time_s < math.inf:
+            raise MoveError(f"IPOPT max_wall_time_s = {self.max_wall_time_s} s must be finite and > 0 s")
         if self.nodes < 2 or self.nodes % 2:
             raise MoveError(f"IPOPT nodes = {self.nodes} must be an even number >= 2")
         if not 0.0 <= self.limit_margin < 0.5:
             raise MoveError(f"IPOPT limit_margin = {self.limit_margin} must be in [0, 0.5)")
+
+
+_END_NODES = 8
+"""extra torque-constraint nodes graded towards each end of the move, in (1e-4, 1/N): where ẋ → 0 the
+low-speed friction a3·atan(a4·ẋ) climbs within a small fraction of the move (with a large a4), and
+with poly3's non-zero acceleration at the ends the torque peaks there, between the uniform nodes"""
+
+
+def _constraint_nodes(n: int) -> np.ndarray:
+    """u of the torque constraints: the N + 1 uniform nodes and :data:`_END_NODES` graded towards each
+    end."""
+    near = np.geomspace(1e-4, 1.0 / n, _END_NODES + 1)[:-1]
+    return np.concatenate([np.linspace(0.0, 1.0, n + 1), near, 1.0 - near])
 
 
 def _simpson_weights(n: int) -> np.ndarray:
@@ -70,7 +91,7 @@ def _simpson_weights(n: int) -> np.ndarray:
 def _build(
     law: PolynomialLaw, case: Case, accounting: EnergyAccounting, settings: IpoptSettings
 ) -> ca.Function:
-    u = np.linspace(0.0, 1.0, settings.nodes + 1)
+    u = _constraint_nodes(settings.nodes)  # the first N + 1: the uniform grid of the quadrature
     s1 = ca.DM(law.shape(u, 1))
     s2 = ca.DM(law.shape(u, 2))
     T = ca.SX.sym("T")
@@ -84,7 +105,8 @@ def _build(
     if case is Case.MIN_TIME:
         f = w0 * T
     else:
-        power = force * v
+        grid = settings.nodes + 1
+        power = force[:grid] * v[:grid]
         if accounting is EnergyAccounting.POSITIVE:
             power = ca.fmax(power, 0)
         elif accounting is EnergyAccounting.ABSOLUTE:
@@ -97,6 +119,7 @@ def _build(
         "ipopt.sb": "yes",
         "ipopt.max_iter": settings.max_iter,
         "ipopt.tol": settings.tol,
+        "ipopt.max_wall_time": settings.max_wall_time_s,
     }
     return ca.nlpsol(
         f"axisflow_{law.name}_{case.name.lower()}", "ipopt", {"x": T, "p": p, "f": f, "g": g}, opts
@@ -134,19 +157,10 @@ class IpoptBackend:
         _build(problem.law, problem.case, params.energy_accounting, self.settings)
 
     def solve(self, problem: MoveProblem, params: AxisParams) -> PlanResult:
+        if is_zero_move(problem, params):
+            return zero_move_result(problem, params, self.name)
         require_feasible_bounds(problem, params)
         d = problem.distance_m
-        if d == 0.0:
-            return finish(
-                problem,
-                params,
-                solver=self.name,
-                status=SolveStatus.CONVERGED,
-                duration_s=problem.t_min_s,
-                iterations=0,
-                solve_time_s=0.0,
-                message="zero-length move",
-            )
         nlp = _build(problem.law, problem.case, params.energy_accounting, self.settings)
         keep = 1.0 - self.settings.limit_margin
         pvals = [
@@ -164,14 +178,15 @@ class IpoptBackend:
             problem.omega,
             problem.w0,
         ]
+        constraints = self.settings.nodes + 1 + 2 * _END_NODES
         t0 = time.perf_counter()
         sol = nlp(
             x0=initial_guess(problem, params),
             p=pvals,
             lbx=problem.t_min_s,
             ubx=problem.t_max_s,
-            lbg=ca.vertcat(-ca.inf, -ca.DM.ones(self.settings.nodes + 1) * pvals[10]),
-            ubg=ca.vertcat(0.0, ca.DM.ones(self.settings.nodes + 1) * pvals[10]),
+            lbg=ca.vertcat(-ca.inf, -ca.DM.ones(constraints) * pvals[10]),
+            ubg=ca.vertcat(0.0, ca.DM.ones(constraints) * pvals[10]),
         )
         elapsed = time.perf_counter() - t0
         stats = nlp.stats()

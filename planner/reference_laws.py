@@ -44,11 +44,23 @@ import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
 from ..model import AxisParams, EnergyAccounting, MoveError, forward_friction
+from ..model.deadline import Deadline, iteration_cap
+from ..model.encoder import encoder_resolution_m
 from .errors import InfeasibleMoveError
 from .problem import DEFAULT_OMEGA, DEFAULT_TIME_BOUNDS_S, DEFAULT_W0, Case
 
 REFERENCE_LAWS: tuple[str, ...] = ("bang", "least-energy")
 """names of the reference laws, as accepted by ``--law``"""
+
+_DOUBLINGS = 64
+"""the cap of the searches that double (or halve) a speed to bracket a root: 2^64 spans any speed"""
+_BRENT_STEPS = 200
+"""the cap of Brent's method on the phase equations (smooth and monotone: ~20 steps)"""
+_RTOL_FLOOR = 4.0 * float(np.finfo(float).eps)
+"""the smallest relative tolerance Brent's method takes (its default)"""
+_SEARCH_DEADLINE_S = 30.0
+"""the default deadline of :func:`plan_reference`'s Brent search over the duration [s] (a search of a
+short move's time-energy optimum takes seconds: docs/planner.md)"""
 
 _X, _W = np.polynomial.legendre.leggauss(16)
 _EDGES = np.array([0.0, 1e-3, 1e-2, 0.05, 0.2, 0.5, 1.0])
@@ -179,9 +191,19 @@ def friction_limited_speed(params: AxisParams) -> float:
     if params.a2 == 0.0 and params.a1 + (params.a3 * math.pi / 2 if params.a4 > 0.0 else 0.0) <= f:
         return math.inf  # friction saturates below the force limit
     hi = 1.0
-    while float(forward_friction(hi, params)) < f:
+    for _ in range(_DOUBLINGS):
+        if float(forward_friction(hi, params)) >= f:
+            return _brent(lambda v: float(forward_friction(v, params)) - f, 0.0, hi, "the friction-limited v")
         hi *= 2.0
-    return brentq(lambda v: float(forward_friction(v, params)) - f, 0.0, hi, xtol=1e-15, rtol=1e-15)
+    return math.inf  # φ stays below F_max beyond 2^64 m/s: no speed the axis reaches
+
+
+def _brent(f, a: float, b: float, what: str, xtol: float = 1e-15, rtol: float = 1e-15) -> float:  # noqa: ANN001
+    """Brent's root of f on [a, b], capped at :data:`_BRENT_STEPS` steps."""
+    try:
+        return brentq(f, a, b, xtol=xtol, rtol=rtol, maxiter=_BRENT_STEPS)
+    except RuntimeError:  # pragma: no cover - bracketed, smooth and monotone
+        raise iteration_cap(what, _BRENT_STEPS) from None
 
 
 _BELOW_FRICTION_LIMIT = 1e-9
@@ -201,12 +223,15 @@ def top_speed(params: AxisParams) -> float:
 
 
 def time_optimal(distance_m: float, params: AxisParams) -> ReferenceProfile:
-    """The bang–cruise–bang minimum-time profile over |distance_m| (see the module docstring)."""
+    """The bang–cruise–bang minimum-time profile over |distance_m| (see the module docstring); a
+    distance shorter than one encoder count is a zero move (the profile of distance 0)."""
     D = abs(float(distance_m))
     if not math.isfinite(D):
         raise MoveError(f"distance_m = {distance_m} m is not finite")
     if D > params.L * (1 + 1e-12):
         raise MoveError(f"distance_m = {distance_m} m is longer than the stroke L = {params.L} m")
+    if encoder_resolution_m(params.r) > D:  # a zero move
+        D = 0.0
     return _time_optimal(D, params)
 
 
@@ -220,7 +245,9 @@ def _time_optimal(D: float, params: AxisParams) -> ReferenceProfile:
     def overshoot(v: float) -> float:
         return ph.accel(v)[1] + ph.brake(v)[1] - D
 
-    v = v_top if overshoot(v_top) <= 0.0 else brentq(overshoot, 0.0, v_top, xtol=1e-15)
+    v = v_top
+    if overshoot(v_top) > 0.0:
+        v = _brent(overshoot, 0.0, v_top, "the bang law's peak speed", rtol=_RTOL_FLOOR)
     prof = _profile("bang", params, D, v, v, ph)
     assert prof is not None  # v was chosen so that the ramps fit
     return prof
@@ -231,12 +258,12 @@ def least_energy(
 ) -> ReferenceProfile:
     """The least-energy profile of the family above that covers |distance_m| in ``duration_s``."""
     acc = params.energy_accounting if accounting is None else EnergyAccounting(accounting)
-    D = abs(float(distance_m))
-    fastest = time_optimal(D, params)
+    fastest = time_optimal(distance_m, params)
+    D = fastest.distance_m
     T = float(duration_s)
-    if not math.isfinite(T) or T <= 0.0:
+    if not math.isfinite(T) or T < 0.0 or (T == 0.0 and D > 0.0):
         raise MoveError(f"duration_s = {duration_s} s must be a finite number > 0 s")
-    if D == 0.0:
+    if D == 0.0:  # a zero move (shorter than one encoder count): any duration, 0 included
         return fastest
     if fastest.duration_s * (1 - 1e-12) > T:
         raise InfeasibleMoveError(
@@ -261,7 +288,11 @@ def _least_energy(D: float, T: float, params: AxisParams, acc: EnergyAccounting)
             return ph.accel(v_c)[1] + x_k + ph.brake(r * v_c)[1] - D
 
         # the largest top speed whose ramps (and coast) still fit the distance
-        v_fit = v_top if ramps(v_top) <= 0.0 else brentq(ramps, 0.0, v_top, xtol=1e-15) * (1 - 1e-13)
+        v_fit = (
+            v_top
+            if ramps(v_top) <= 0.0
+            else _brent(ramps, 0.0, v_top, "the least-energy law's top speed", rtol=_RTOL_FLOOR) * (1 - 1e-13)
+        )
 
         def excess(v_c: float) -> float:
             prof = _profile("least-energy", params, D, v_c, r * v_c, ph)
@@ -270,9 +301,13 @@ def _least_energy(D: float, T: float, params: AxisParams, acc: EnergyAccounting)
         if excess(v_fit) < 0.0:
             return None
         lo = v_fit
-        while excess(lo) >= 0.0:
+        for _ in range(_DOUBLINGS):
+            if excess(lo) < 0.0:
+                break
             lo *= 0.5
-        v_c = brentq(excess, lo, v_fit, xtol=1e-15, rtol=1e-14)
+        else:
+            raise iteration_cap("the least-energy law's cruise-speed bracket", _DOUBLINGS)
+        v_c = _brent(excess, lo, v_fit, "the least-energy law's cruise speed", rtol=1e-14)
         return _profile("least-energy", params, D, v_c, r * v_c, ph)
 
     if acc is EnergyAccounting.SIGNED:
@@ -316,6 +351,7 @@ def plan_reference(
     w0: float = DEFAULT_W0,
     t_min_s: float = DEFAULT_TIME_BOUNDS_S[Case.MIN_TIME][0],
     t_max_s: float = DEFAULT_TIME_BOUNDS_S[Case.MIN_TIME][1],
+    deadline_s: float = _SEARCH_DEADLINE_S,
 ) -> ReferencePlan:
     """Plan a move with a reference law.
 
@@ -323,7 +359,9 @@ def plan_reference(
     longer move is then the least-energy profile at t_min_s). ``least-energy``: for minimum time the
     same duration; for min ω·T + (1 − ω)·E_least(T) a bounded Brent search over
     [max(t_min_s, T_bang), t_max_s] (E_least is decreasing and smooth in T in practice; a local
-    optimum, not certified).
+    optimum, not certified; every step checks a deadline of ``deadline_s``,
+    :class:`~axisflow.model.deadline.DeadlineError`). A distance shorter than one encoder count is a
+    zero move: duration 0 s, energy 0 J, as the polynomial laws' (:mod:`.evaluation`).
     """
     import time
 
@@ -332,21 +370,25 @@ def plan_reference(
     if law == "bang" and not minimise_time:
         raise MoveError("the bang law is the minimum-time law: use it with --case min-time")
     t0 = time.perf_counter()
+    deadline = Deadline(deadline_s, f"the {law} reference plan")
     acc = params.energy_accounting
     fastest = time_optimal(distance_m, params)
+    if fastest.distance_m == 0.0:
+        return ReferencePlan(law, 0.0, 0.0, 0.0, fastest, time.perf_counter() - t0)
     t_lo = max(t_min_s, fastest.duration_s)
     if t_lo > t_max_s:
         raise InfeasibleMoveError(
             f"no duration in [{t_min_s}, {t_max_s}] s: the time-optimal move over {abs(distance_m):.6g} m "
             f"takes {fastest.duration_s:.6g} s"
         )
-    if minimise_time or fastest.distance_m == 0.0:
+    if minimise_time:
         prof = least_energy(distance_m, t_lo, params)
         t = t_lo
         obj = w0 * t if minimise_time else omega * t + (1 - omega) * prof.energy(acc)
     else:
 
         def cost(t: float) -> float:
+            deadline.check("the Brent search over the duration")
             return omega * t + (1 - omega) * least_energy(distance_m, t, params).energy(acc)
 
         res = minimize_scalar(cost, bounds=(t_lo, t_max_s), method="bounded", options={"xatol": 1e-7})

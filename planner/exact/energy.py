@@ -38,8 +38,11 @@ from scipy.integrate import quad
 from scipy.optimize import brentq
 
 from ...model import AxisParams, EnergyAccounting, PolynomialLaw, forward_friction, friction_slope
+from ...model.deadline import iteration_cap
 from .law_model import NEWTON_MAX_STEPS, LawModel, horner, law_model
 
+_BRENT_STEPS = 200
+"""the cap of Brent's method on ψ(β) = ω/(1 − ω)"""
 _BEYOND_ANY_SPEED = 1e6
 """β above this many v_max is no feasible speed ratio (the peak velocity c_v·β ≥ β exceeds v_max)"""
 
@@ -222,8 +225,12 @@ def optimal_speed_ratio(law: PolynomialLaw, params: AxisParams, omega: float) ->
 
     hi = 1.0
     beyond = _BEYOND_ANY_SPEED * params.v_max
-    while psi(hi) < 0.0:
+    while psi(hi) < 0.0:  # at most log2(beyond) + 1 doublings
         if hi > beyond:
             return math.inf
         hi *= 2.0
-    return brentq(psi, 0.0, hi, xtol=1e-16, rtol=1e-15)
+    try:
+        return brentq(psi, 0.0, hi, xtol=1e-16, rtol=1e-15, maxiter=_BRENT_STEPS)
+    except RuntimeError:  # pragma: no cover - Brent converges in ~20 steps on this smooth, monotone ψ
+        what = f"the optimal speed ratio of {law.name} at omega = {omega}"
+        raise iteration_cap(what, _BRENT_STEPS) from None

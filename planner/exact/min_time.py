@@ -17,6 +17,7 @@ import math
 from typing import NamedTuple
 
 from ...model import AxisParams
+from ...model.deadline import Deadline, iteration_cap
 from ..certificates import MinTimeCertificate
 from ..errors import InfeasibleMoveError
 from ..problem import MoveProblem
@@ -34,14 +35,17 @@ class FeasibleDuration(NamedTuple):
 
 
 def min_feasible_duration(
-    problem: MoveProblem, params: AxisParams, limit: TorqueLimit | None = None
+    problem: MoveProblem,
+    params: AxisParams,
+    limit: TorqueLimit | None = None,
+    deadline: Deadline | None = None,
 ) -> FeasibleDuration:
     """max(T_min, T_v, T_τ) with its proof; raises :class:`InfeasibleMoveError` when it is above
     T_max (the message names both durations and both limits)."""
     limit = limit or torque_limit(problem.law, params)
     D = abs(problem.x1_m - problem.x0_m)
     t_v = problem.law.peak_velocity_factor * D / params.v_max
-    t_tau, t_tau_low, _ = limit.duration(D)
+    t_tau, t_tau_low, _ = limit.duration(D, deadline)
     t_min, t_max = problem.t_min_s, problem.t_max_s
     if t_min >= t_v and t_min >= t_tau:
         bound = FeasibleDuration(t_min, 0.0, Active.T_MIN)
@@ -59,21 +63,34 @@ def min_feasible_duration(
     return bound
 
 
+_ULP_STEPS = 64
+"""the cap of the floating-point steps of the velocity bracket (a correctly rounded c_v·D/v_max needs
+one or two)"""
+
+
 def _velocity_bracket(peak_distance_m: float, v_max: float, t_v: float) -> FeasibleDuration:
     """T_v = c_v·D/v_max moved by floating-point steps until the peak velocity c_v·D/t, as computed,
     meets v_max at the duration and breaks it just below (the proof)."""
     t = t_v
-    while peak_distance_m / t > v_max:
+    for _ in range(_ULP_STEPS):
+        if peak_distance_m / t <= v_max:
+            break
         t = math.nextafter(t, math.inf)
+    else:
+        raise iteration_cap("the velocity bracket (duration side)", _ULP_STEPS)
     below = math.nextafter(t, 0.0)
-    while peak_distance_m / below <= v_max:
+    for _ in range(_ULP_STEPS):
+        if peak_distance_m / below > v_max:
+            return FeasibleDuration(t, below, Active.VELOCITY)
         below = math.nextafter(below, 0.0)
-    return FeasibleDuration(t, below, Active.VELOCITY)
+    raise iteration_cap("the velocity bracket (infeasible side)", _ULP_STEPS)
 
 
-def solve_min_time(problem: MoveProblem, params: AxisParams, limit: TorqueLimit) -> ExactSolution:
+def solve_min_time(
+    problem: MoveProblem, params: AxisParams, limit: TorqueLimit, deadline: Deadline | None = None
+) -> ExactSolution:
     """Case 1 for a move of non-zero length: T* and its bracket (the energy is left to the caller)."""
-    t, below, active = min_feasible_duration(problem, params, limit)
+    t, below, active = min_feasible_duration(problem, params, limit, deadline)
     if active is Active.T_MIN:  # nothing shorter is allowed: the bound itself is the proof
         below = t
     return ExactSolution(t, problem.w0 * t, math.nan, active, MinTimeCertificate(below, t))

@@ -12,11 +12,14 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
+from ...model.deadline import Deadline, iteration_cap
 from .energy import braking_energy_and_slope, signed_energy, signed_energy_slope
 from .law_model import NEWTON_MAX_STEPS, LawModel
 
 ROOT_REL = 1e-10
 """relative width at which the bracket of the root of dJ/dT is closed"""
+_BISECTION_STEPS = 128
+"""the cap of the closing bisection (each halves the bracket: 40 close any bracket of [T_min, T_max])"""
 _AIM_PAST = 1e-11
 """near the root, probes are aimed this fraction of T past the secant's root"""
 
@@ -69,10 +72,16 @@ class ObjectiveSlope:
 
 
 def slope_root(
-    slope: ObjectiveSlope, t_s: float, g_s: float, t_max: float, guess: StartGuess | None = None
+    slope: ObjectiveSlope,
+    t_s: float,
+    g_s: float,
+    t_max: float,
+    guess: StartGuess | None = None,
+    deadline: Deadline | None = None,
 ) -> SlopeRoot:
-    """The root of dJ/dT right of t_s, where dJ/dT(t_s) = g_s < 0 (see :class:`_SecantSearch`)."""
-    return _SecantSearch(slope, t_s, g_s, t_max).run(guess)
+    """The root of dJ/dT right of t_s, where dJ/dT(t_s) = g_s < 0 (see :class:`_SecantSearch`);
+    ``deadline`` is checked at every step (:class:`~axisflow.model.deadline.SolveLimitError`)."""
+    return _SecantSearch(slope, t_s, g_s, t_max, deadline).run(guess)
 
 
 class _SecantSearch:
@@ -86,8 +95,10 @@ class _SecantSearch:
     bracket closes in one or two more evaluations. The guess changes the path, never the proof.
     """
 
-    def __init__(self, slope: ObjectiveSlope, t_s: float, g_s: float, t_max: float) -> None:
-        self.slope, self.t_s, self.t_max = slope, t_s, t_max
+    def __init__(
+        self, slope: ObjectiveSlope, t_s: float, g_s: float, t_max: float, deadline: Deadline | None = None
+    ) -> None:
+        self.slope, self.t_s, self.t_max, self.deadline = slope, t_s, t_max, deadline
         # the bracket: dJ/dT(a) ≤ 0 < dJ/dT(b), b = ∞ until a positive slope is seen
         self.a, self.b = t_s, math.inf
         # the previous probe and its slope, for the secant
@@ -101,6 +112,8 @@ class _SecantSearch:
                 return SlopeRoot(guess.t0_s, guess.t0_s, 0.0, False)
         gx = self.g_prev
         for it in range(NEWTON_MAX_STEPS):
+            if self.deadline is not None:
+                self.deadline.check("the secant search of the time-energy optimum")
             gx = self._probe(x)
             if gx == 0.0 or (self.b < math.inf and self.b - self.a <= ROOT_REL * self.b):
                 break
@@ -161,13 +174,19 @@ class _SecantSearch:
 
     def _bisect(self, x: float, gx: float) -> SlopeRoot:
         """Close a bracket the secant left open (not reached in practice) and report it."""
-        while self.b - self.a > ROOT_REL * self.b and gx != 0.0:
+        for _ in range(_BISECTION_STEPS):
+            if not (self.b - self.a > ROOT_REL * self.b and gx != 0.0):
+                break
+            if self.deadline is not None:
+                self.deadline.check("the bisection of the time-energy optimum")
             x = 0.5 * (self.a + self.b)
             gx = self.slope(x)[0]
             if gx > 0.0:
                 self.b = x
             else:
                 self.a = x
+        else:
+            raise iteration_cap("the bisection of the time-energy optimum", _BISECTION_STEPS)
         if gx == 0.0:
             self.a = self.b = x
         return SlopeRoot(self.a, self.b, gx, False)

@@ -22,7 +22,7 @@ class Active(StrEnum):
     OPTIMUM = "optimum"
     """an interior minimum of the time-energy objective"""
     ZERO_LENGTH = "zero-length"
-    """a move of length 0: T_min, nothing to prove"""
+    """a zero move, shorter than one encoder count: duration 0, nothing to execute or prove"""
 
 
 @dataclass(frozen=True)
@@ -35,4 +35,4 @@ class ExactSolution:
     """the move's energy [J] (case 2); NaN for minimum time, where the solve does not need it"""
     active: Active
     certificate: Certificate | None
-    """the proof of optimality; None for a zero-length move"""
+    """the proof of optimality; None for a zero move"""

@@ -28,6 +28,7 @@ import math
 from collections.abc import Callable
 
 from ...model import AxisParams, EnergyAccounting
+from ...model.deadline import Deadline
 from ..certificates import TimeEnergyCertificate
 from ..problem import MoveProblem
 from .energy import braking_weight, optimal_speed_ratio, signed_energy, signed_energy_slope
@@ -41,15 +42,15 @@ from .torque_limit import TorqueLimit
 
 
 def solve_time_energy(
-    problem: MoveProblem, params: AxisParams, limit: TorqueLimit, D: float
+    problem: MoveProblem, params: AxisParams, limit: TorqueLimit, D: float, deadline: Deadline | None = None
 ) -> ExactSolution:
     """Case 2 for a move of length D > 0 (see the module docstring)."""
     beta = optimal_speed_ratio(problem.law, params, problem.omega)
-    t_s, active, t_infeasible = _signed_start(problem, params, limit, D, beta)
+    t_s, active, t_infeasible = _signed_start(problem, params, limit, D, beta, deadline)
     if params.energy_accounting is EnergyAccounting.SIGNED:
         sol = _signed_answer(problem.omega, limit.model, D, t_s, active)
     else:
-        sol = _BrakingSearch(problem, params, limit.model, D, beta).solve(t_s, active)
+        sol = _BrakingSearch(problem, params, limit.model, D, beta, deadline).solve(t_s, active)
     if t_infeasible is not None and sol.duration_s == t_s:
         # a limit decides: shorter durations are proved out
         proof = dataclasses.replace(sol.certificate, t_infeasible_s=t_infeasible)
@@ -58,7 +59,12 @@ def solve_time_energy(
 
 
 def _signed_start(
-    problem: MoveProblem, params: AxisParams, limit: TorqueLimit, D: float, beta: float
+    problem: MoveProblem,
+    params: AxisParams,
+    limit: TorqueLimit,
+    D: float,
+    beta: float,
+    deadline: Deadline | None,
 ) -> tuple[float, Active, float | None]:
     """(T_s, what decides it, a proved-infeasible duration when a limit does): D/β* projected on the
     bounds, or the smallest feasible duration when that breaks a limit."""
@@ -70,7 +76,7 @@ def _signed_start(
         and limit.peak_force(1.0 / t_c, D, limit.model.u_acc_peak)[0] <= limit.model.f_max_n
     ):
         return t_c, active, None
-    t_s, t_below, active = min_feasible_duration(problem, params, limit)
+    t_s, t_below, active = min_feasible_duration(problem, params, limit, deadline)
     return t_s, active, t_below if active in (Active.VELOCITY, Active.TORQUE) else None
 
 
@@ -102,8 +108,17 @@ def _signed_answer(omega: float, lm: LawModel, D: float, t_s: float, active: Act
 class _BrakingSearch:
     """The minimiser of J = J_s + (1 − ω)·c·R right of T_s, in small steps (module docstring, 2.)."""
 
-    def __init__(self, problem: MoveProblem, params: AxisParams, lm: LawModel, D: float, beta: float) -> None:
+    def __init__(
+        self,
+        problem: MoveProblem,
+        params: AxisParams,
+        lm: LawModel,
+        D: float,
+        beta: float,
+        deadline: Deadline | None = None,
+    ) -> None:
         self.problem, self.params, self.lm, self.D, self.beta = problem, params, lm, D, beta
+        self.deadline = deadline
         self.omega, self.t_max = problem.omega, problem.t_max_s
         self.c = braking_weight(params.energy_accounting)
         self.slope = ObjectiveSlope(lm, D, problem.omega, self.c)
@@ -116,13 +131,14 @@ class _BrakingSearch:
             if r_s == 0.0 or t_s >= self.t_max or self.omega >= 1.0 or g_s >= 0.0:
                 return self._at_signed_optimum(t_s, active, g_s, r_s)
             left = t_s, g_s
-        root = slope_root(self.slope, left[0], left[1], self.t_max, guess)
+        root = slope_root(self.slope, left[0], left[1], self.t_max, guess, self.deadline)
         if root.unbounded:
             g_max, r_max = self.slope(self.t_max)
             if g_max <= 0.0:
                 return self._at_t_max(g_max, r_max)
             a = root.t_lower_s  # pragma: no cover - not reached
-            root = slope_root(self.slope, a, self.slope(a)[0], self.t_max)  # pragma: no cover
+            g_a = self.slope(a)[0]  # pragma: no cover
+            root = slope_root(self.slope, a, g_a, self.t_max, None, self.deadline)  # pragma: no cover
         return self._interior(root)
 
     def _guess(self, t_s: float) -> StartGuess | None:

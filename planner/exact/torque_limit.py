@@ -33,11 +33,17 @@ from functools import lru_cache
 import numpy as np
 
 from ...model import AxisParams, PolynomialLaw
+from ...model.deadline import Deadline, iteration_cap
 from .law_model import NEWTON_MAX_STEPS, LawModel, horner, law_model
 
 BRACKET_REL = 1e-11
 """relative width of the proved case-1 bracket: t_lower_s = t_upper_s·(1 − BRACKET_REL)"""
 _TABLE_NODES = 160
+_PAIR_STEPS = 12
+"""the cap of the Newton steps on the pair (u, y) (2–4 from the table's start)"""
+_ROUNDING_STEPS = 48
+"""the cap of the steps that move y to the feasible side of the limit after the Newton solve (one or
+two ulps normally; each step doubles the last)"""
 
 
 @dataclass(frozen=True)
@@ -125,16 +131,17 @@ class TorqueLimit:
             u = new
         return F, Fy, u
 
-    def duration(self, D: float) -> tuple[float, float, float]:
+    def duration(self, D: float, deadline: Deadline | None = None) -> tuple[float, float, float]:
         """T_τ [s]: the smallest T with max_u F(u, T) ≤ F_max, as (t_upper_s, t_lower_s, u_peak).
 
         Newton's method on the pair ∂F/∂u = 0, F = F_max in (u, y) from the table. The peak meets the
-        limit at t_upper_s and exceeds it at t_lower_s (a proof that t_lower_s is infeasible).
+        limit at t_upper_s and exceeds it at t_lower_s (a proof that t_lower_s is infeasible). Every
+        loop is capped; ``deadline`` is checked between them (:class:`SolveLimitError` at either).
         """
         fmax = self.model.f_max_n
         y, u = self._start(D)
         fd = self.force_derivatives
-        for _ in range(12):
+        for _ in range(_PAIR_STEPS):
             F, Fu, Fuu, Fy, Fuy = fd(u, y, D)
             G = F - fmax
             if u <= 0.0 and Fu <= 0.0:  # boundary peak (poly3): solve F(0, y) = F_max in y only
@@ -157,10 +164,18 @@ class TorqueLimit:
                 break
         else:
             y, u = self._scalar_root(D, y, u)
+        if deadline is not None:
+            deadline.check("the torque limit's Newton solve")
         F, _, u = self.peak_force(y, D, u)
-        while fmax < F:  # rounding: step to the feasible side
-            y *= 1.0 - 4e-16
+        for k in range(_ROUNDING_STEPS):  # rounding: step to the feasible side
+            if fmax >= F:
+                break
+            y *= 1.0 - 4e-16 * 2.0**k
             F, _, u = self.peak_force(y, D, u)
+        else:
+            raise iteration_cap(f"the torque limit's rounding step (D = {D:.6g} m)", _ROUNDING_STEPS)
+        if not (y > 0.0 and math.isfinite(y)):
+            raise iteration_cap(f"the torque limit's Newton solve (D = {D:.6g} m, y = {y})", _PAIR_STEPS)
         t_up = 1.0 / y
         t_low = t_up * (1.0 - BRACKET_REL)
         if fd(u, 1.0 / t_low, D)[0] <= fmax:  # pragma: no cover - numerical guard

@@ -12,7 +12,9 @@ The table runs in-process (``axisflow.cli.main``); the three slips our issue fou
 
 from __future__ import annotations
 
+import json
 import math
+import signal
 import subprocess
 import sys
 import time
@@ -60,7 +62,39 @@ CASES = [
         says=("unknown.toml", "unknown key(s) foo"),
     ),
     case(
-        "params: negative mass", "params", "--params", "negative.toml", says=("m = -3.0 kg", "must be > 0 kg")
+        "params: negative mass",
+        "params",
+        "--params",
+        "negative.toml",
+        says=("m = -3.0 kg", "outside the physical range [0.001, 10000] kg"),
+    ),
+    case(
+        "params: mass 1e308",
+        "params",
+        "--params",
+        "huge-mass.toml",
+        says=("m = 1e+308 kg", "outside the physical range [0.001, 10000] kg"),
+    ),
+    case(
+        "params: stroke in millimetres",
+        "params",
+        "--params",
+        "stroke-mm.toml",
+        says=("L = 800.0 m", "outside the physical range [0.01, 50] m"),
+    ),
+    case(
+        "params: a motor weaker than Coulomb friction",
+        "params",
+        "--params",
+        "weak-motor.toml",
+        says=("tau_max = 0.25 N·m", "F_max = tau_max·i_r/r = 62.5 N", "Coulomb friction a1 = 72.0 N"),
+    ),
+    case(
+        "params: motor speed beyond any motor",
+        "params",
+        "--params",
+        "fast-motor.toml",
+        says=("v_max = 20.0 m/s", "v_max·i_r/r = 200000 rad/s", "60000 rpm"),
     ),
     case("params: NaN friction", "params", "--params", "nan.toml", says=("a1 = nan N", "not finite")),
     case("params: not TOML", "params", "--params", "garbage.toml", says=("garbage.toml", "not valid TOML")),
@@ -103,7 +137,16 @@ CASES = [
         "0.5",
         "--params",
         "negative.toml",
-        says=("m = -3.0 kg", "> 0 kg"),
+        says=("m = -3.0 kg", "[0.001, 10000] kg"),
+    ),
+    case(
+        "plan: mass 1e308",
+        "plan",
+        "0",
+        "0.5",
+        "--params",
+        "huge-mass.toml",
+        says=("m = 1e+308 kg", "outside the physical range [0.001, 10000] kg"),
     ),
     # the experiment, the sweep
     case(
@@ -232,6 +275,14 @@ CASES = [
         "--plant",
         "missing.toml",
         says=("plant file missing.toml", "does not exist"),
+    ),
+    case(
+        "bridge: plant scaled beyond any cart",
+        "bridge",
+        "--sim",
+        "--plant",
+        "heavy-plant.toml",
+        says=("heavy-plant.toml", "m = 90000.0 kg", "[0.001, 10000] kg"),
     ),
     case(
         "bridge: plant state is someone's file",
@@ -436,6 +487,24 @@ CASES = [
         "--omega",
         "2",
         says=("--omega 2.0", "outside [0, 1]"),
+    ),
+    case(
+        "planner: mass 1e308",
+        "planner",
+        "--random",
+        "5",
+        "--params",
+        "huge-mass.toml",
+        says=("m = 1e+308 kg", "outside the physical range [0.001, 10000] kg"),
+    ),
+    case(
+        "planner: a1 beyond any belt",
+        "planner",
+        "--waypoints",
+        "tiny.txt",
+        "--params",
+        "huge-friction.toml",
+        says=("a1 = 1000000.0 N", "[0, 100000] N"),
     ),
     case(
         "planner: negative lookahead",
@@ -646,6 +715,13 @@ def inputs(tmp_path_factory) -> Path:
     _params_file(d / "unknown.toml", foo=1)
     _params_file(d / "negative.toml", m=-3.0)
     _params_file(d / "nan.toml", a1=math.nan)
+    _params_file(d / "huge-mass.toml", m=1e308)
+    _params_file(d / "stroke-mm.toml", L=800.0)
+    _params_file(d / "weak-motor.toml", tau_max=0.25)
+    _params_file(d / "fast-motor.toml", v_max=20.0, r=0.001)
+    _params_file(d / "huge-friction.toml", a1=1e6)
+    (d / "heavy-plant.toml").write_text("[scale]\nm = 1000.0\n")
+    (d / "tiny.txt").write_text("0.1\n0.1\n1e-310\n5e-324\n0.4\n")
     (d / "garbage.toml").write_text("m = = 3\n[[[\n")
     (d / "bad.json5").write_text("{ mode: 'peer',\n")
     (d / "notes.txt").write_text("hello\n")
@@ -791,3 +867,72 @@ def test_head_gets_the_first_line(tmp_path):
         timeout=60,
     )
     assert done.stdout.split()[:3] == ["m", "=", "90"] and done.stderr == ""
+
+
+# ---- moves shorter than one encoder count: planned at once as zero moves, never a spin -------------
+
+
+@pytest.mark.timeout(60)
+@pytest.mark.parametrize("x1", ["1e-310", "1e-320", "5e-324", "1e-6"])
+@pytest.mark.parametrize(
+    ("law", "case_", "solver"),
+    [
+        ("poly5", "min-time", "exact"),
+        ("poly3", "min-time-energy", "exact"),
+        ("poly7", "min-time", "ipopt"),
+        ("poly5", "min-time-energy", "ipopt"),
+        ("bang", "min-time", "exact"),
+        ("least-energy", "min-time-energy", "exact"),
+    ],
+)
+def test_a_move_below_one_encoder_count_is_a_zero_move(x1, law, case_, solver, capfd):
+    """The issue: ``plan 0 1e-310`` spun at 100 % CPU. One count is 2π·0.04 m/131072 = 1.917 µm."""
+    code = main(["plan", "0", x1, "--law", law, "--case", case_, "--solver", solver, "--json"])
+    out, err = capfd.readouterr()
+    assert code == 0 and err == ""
+    plan = json.loads(out)
+    assert plan["duration_s"] == 0.0 and plan["energy_j"] == 0.0 and plan["objective"] == 0.0
+    if law.startswith("poly"):
+        assert plan["message"].startswith("zero move: |x1 - x0| = ") and "(1.917e-06 m)" in plan["message"]
+
+
+@pytest.mark.timeout(60)
+def test_the_issue_s_tiny_move_returns_at_once_as_a_process(tmp_path):
+    done = _run("plan", "0", "1e-310", "--json", cwd=tmp_path, timeout=30)
+    assert done.returncode == 0 and done.stderr == "", done.stderr
+    assert json.loads(done.stdout)["duration_s"] == 0.0
+
+
+@pytest.mark.timeout(120)
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT], ids=["SIGTERM", "SIGINT"])
+def test_the_planner_with_tiny_way_points_ends_within_2_s_of_a_signal(cli, tmp_path, sig):
+    """Way points within a count of each other (zero moves, not sent) among real moves, on a bridge at
+    real time: mid-run (a plan record seen), the signal ends the planner within 2 s."""
+    import zenoh
+    from axisflow.acquisition import AxisKeys, ZenohOptions, open_session
+
+    port = cli.free_port()
+    bridge = cli.start("bridge", "--sim", "--listen", f"tcp/127.0.0.1:{port}", "--speed", "1")
+    points = tmp_path / "tiny.txt"
+    points.write_text("0.1\n0.1\n0.1000000000001\n0.5\n5e-324\n1e-310\n0.6\n0.2\n0.7\n0.3\n0.7\n0.1\n")
+    with open_session(ZenohOptions.loopback(connect_port=port)) as session:
+        plans = session.declare_subscriber(AxisKeys("a0").plan, zenoh.handlers.FifoChannel(1000))
+        planner = cli.start("planner", "--waypoints", str(points), "--connect", f"tcp/127.0.0.1:{port}")
+        deadline = time.monotonic() + 60.0
+        while plans.try_recv() is None:  # the fact: the planner is mid-run
+            assert planner.poll() is None, cli.finish(planner)
+            assert time.monotonic() < deadline, "no plan record within 60 s"
+            time.sleep(0.02)
+        plans.undeclare()
+    t0 = time.monotonic()
+    planner.send_signal(sig)
+    try:
+        _out, err = planner.communicate(timeout=2.0)
+    except subprocess.TimeoutExpired:
+        pytest.fail(f"the planner still ran 2 s after {sig.name}")
+    elapsed = time.monotonic() - t0
+    bridge.send_signal(signal.SIGTERM)
+    cli.finish(bridge)
+    assert elapsed < 2.0
+    assert "Traceback" not in err, err
+    assert planner.returncode == 130, err

@@ -185,3 +185,28 @@ def test_offline_table2_lands_within_ten_percent_of_the_paper(tmp_path):
         assert row.paper is not None
         assert row.planned.total_time_s == pytest.approx(row.paper.total_time_s, rel=0.10), row.law
         assert row.planned.energy_model_j == pytest.approx(row.paper.energy_model_j, rel=0.10), row.law
+
+
+def test_params_help_shows_every_physical_range(capsys):
+    from axisflow.model.parameter_ranges import ranges_table
+
+    with pytest.raises(SystemExit):
+        main(["params", "--help"])
+    shown = capsys.readouterr().out
+    for key, text, why in ranges_table():
+        assert f"{key:<8} {text:<22} {why}" in shown, key
+
+
+def test_an_experiment_row_with_zero_moves_compares_the_rest_with_the_limit():
+    import numpy as np
+    from axisflow.planner import make_backend
+
+    from axisflow.experiment import plan_row
+
+    params = default_params()
+    points = np.array([0.1, 0.1, 0.1 + 1e-7, 0.5])  # two zero moves, then 0.4 m
+    row = plan_row(points, Case.MIN_TIME_ENERGY, "poly5", make_backend("exact"), params, DEFAULT_OMEGA)
+    assert row.planned.durations_s[:2] == (0.0, 0.0)
+    assert row.planned.total_time_s == row.planned.durations_s[2]
+    assert row.limits is not None and row.limits.time_limits_s[:2] == (0.0, 0.0)
+    assert row.time_limit_ratio is not None and row.time_limit_ratio > 1.0

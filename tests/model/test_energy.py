@@ -19,7 +19,7 @@ LAWS = ["poly3", "poly5", "poly7"]
 
 def _friction_only(a1=0.0, a2=0.0, a3=0.0, a4=1.0, **kw):
     # a negligible inertia, so only the friction terms act
-    return default_params().replace(m=1e-9, J_m=1e-15, J_g=1e-15, J_p=1e-15, a1=a1, a2=a2, a3=a3, a4=a4, **kw)
+    return default_params().replace(m=1e-3, J_m=1e-8, J_g=0.0, J_p=1e-8, a1=a1, a2=a2, a3=a3, a4=a4, **kw)
 
 
 @pytest.mark.parametrize("law", LAWS)

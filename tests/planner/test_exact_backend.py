@@ -9,6 +9,7 @@ from axisflow.model import (
     EnergyAccounting,
     Move,
     MoveError,
+    ParameterError,
     default_params,
     forward_friction,
     move_energy,
@@ -24,7 +25,7 @@ from axisflow.planner import (
     make_backend,
 )
 from axisflow.planner.evaluation import objective
-from axisflow.planner.exact import Active, solve_exact
+from axisflow.planner.exact import Active, ExactBackend, solve_exact
 
 LAWS = ["poly3", "poly5", "poly7"]
 U = np.linspace(0.0, 1.0, 20001)
@@ -231,7 +232,7 @@ def test_agreement_with_a_converged_ipopt_on_a_few_hundred_moves():
 
 def test_zero_length_move_and_infeasible_bounds(params):
     sol = solve_exact(MoveProblem(0.4, 0.4, "poly5", Case.MIN_TIME), params)
-    assert sol.duration_s == 0.1 and sol.active is Active.ZERO_LENGTH and sol.certificate is None
+    assert sol.duration_s == 0.0 and sol.active is Active.ZERO_LENGTH and sol.certificate is None
     with pytest.raises(
         InfeasibleMoveError, match=r"no duration in \[0.1, 0.2\] s keeps the poly5 move 0 m → 0.8 m"
     ):
@@ -242,13 +243,19 @@ def test_zero_length_move_and_infeasible_bounds(params):
         make_backend("exact", max_iter=3)
 
 
-@pytest.mark.parametrize("case", list(Case))
-def test_an_axis_whose_torque_limit_cannot_beat_coulomb_friction_is_infeasible(params, case):
-    weak = params.replace(tau_max=0.25)  # F_max = 62.5 N < a1 = 72 N
+def test_an_axis_whose_torque_limit_cannot_beat_coulomb_friction_is_refused(params):
+    """F_max ≤ a1 leaves no move to plan: the parameters themselves are refused."""
     with pytest.raises(
-        InfeasibleMoveError, match=r"F_max = 62.5 N, not above the Coulomb friction a1 = 72.0 N"
+        ParameterError, match=r"F_max = tau_max·i_r/r = 62.5 N, not above the Coulomb friction"
     ):
-        make_backend("exact").solve(MoveProblem(0.1, 0.5, "poly5", case), weak)
+        params.replace(tau_max=0.25)
+
+
+def test_an_axis_just_above_coulomb_friction_plans_or_says_infeasible(params):
+    """F_max = 75 N > a1 = 72 N: the axis creeps (friction-limited); a long move does not fit 3 s."""
+    weak = params.replace(tau_max=0.3)
+    with pytest.raises(InfeasibleMoveError, match=r"no duration in \[0.1, 3.0\] s"):
+        make_backend("exact").solve(MoveProblem(0.1, 0.5, "poly5"), weak)
 
 
 def test_duration_bounds_beyond_the_longest_move_are_refused():
@@ -327,3 +334,29 @@ def test_certificates_prove_what_they_claim(params):
     assert inner.active is Active.OPTIMUM
     assert c.t_lower_s < inner.duration_s < c.t_upper_s <= c.t_lower_s * (1 + 1e-8)
     assert 0.0 <= c.gap_j <= 1e-12 * inner.objective
+
+
+@pytest.mark.parametrize(
+    "problem",
+    [
+        MoveProblem(0.1, 0.5, "poly5", Case.MIN_TIME),  # the torque limit's Newton solve
+        MoveProblem(0.05, 0.1, "poly3", Case.MIN_TIME_ENERGY),  # the secant search of the braking optimum
+    ],
+    ids=["min-time", "min-time-energy"],
+)
+def test_a_solve_past_its_deadline_is_a_status_with_the_slowest_duration(params, problem):
+    """The deadline is checked inside the solver's loops (a closed-form answer has none to check);
+    past it the result says so, with T_max as its duration (never a hang)."""
+    result = ExactBackend(deadline_s=1e-12).solve(problem, params)
+    assert result.status is SolveStatus.DEADLINE and not result.success
+    assert result.duration_s == problem.t_max_s and result.max_violation == 0.0
+    assert "ran past its deadline of 1e-12 s" in result.message
+
+
+def test_a_zero_move_has_nothing_to_execute(params):
+    result = make_backend("exact").solve(MoveProblem(0.3, 0.3 + 1e-6, "poly5"), params)
+    assert result.zero_move and result.duration_s == 0.0 and result.energy_j == 0.0
+    with pytest.raises(MoveError, match=r"is a zero move \(shorter than one encoder count\)"):
+        _ = result.move
+    one_count = 2 * math.pi * params.r / 131072
+    assert not make_backend("exact").solve(MoveProblem(0.3, 0.3 + one_count, "poly5"), params).zero_move

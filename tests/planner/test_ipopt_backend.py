@@ -1,7 +1,10 @@
+import math
+
 import numpy as np
 import pytest
 from axisflow.model import EnergyAccounting, MoveError, default_params, polynomial_law
 from axisflow.planner import Case, InfeasibleMoveError, MoveProblem, SolveStatus, make_backend
+from axisflow.planner.ipopt_backend import IpoptBackend, IpoptSettings
 
 from .reference import best_time_energy_duration, smallest_feasible_duration
 
@@ -118,3 +121,15 @@ def test_bad_inputs_get_clear_errors(kwargs, error, match, params):
 def test_unknown_solver_is_named():
     with pytest.raises(MoveError, match="unknown solver 'snopt'"):
         make_backend("snopt")
+
+
+def test_ipopt_past_its_wall_time_is_a_deadline_status():
+    params = default_params()
+    problem = MoveProblem(0.1, 0.5, "poly5", Case.MIN_TIME_ENERGY)
+    result = IpoptBackend(IpoptSettings(max_wall_time_s=1e-9)).solve(problem, params)
+    assert result.status is SolveStatus.DEADLINE and result.message == "Maximum_WallTime_Exceeded"
+
+
+def test_ipopt_refuses_a_wall_time_that_is_not_a_bound():
+    with pytest.raises(MoveError, match=r"max_wall_time_s = inf s must be finite and > 0 s"):
+        IpoptSettings(max_wall_time_s=math.inf)

@@ -8,6 +8,7 @@ from axisflow.model import (
     EnergyAccounting,
     Move,
     MoveError,
+    ParameterError,
     default_params,
     forward_friction,
     move_energy,
@@ -15,7 +16,7 @@ from axisflow.model import (
 )
 from axisflow.planner import Case, InfeasibleMoveError, MoveProblem
 from axisflow.planner.exact import solve_exact
-from axisflow.planner.reference_laws import ReferenceLawError, least_energy, plan_reference, time_optimal
+from axisflow.planner.reference_laws import least_energy, plan_reference, time_optimal
 from scipy.integrate import solve_ivp
 
 
@@ -112,8 +113,8 @@ def test_plan_reference_and_errors(params):
         plan_reference("bang", 0.6, params, minimise_time=False)
     with pytest.raises(InfeasibleMoveError, match=r"no duration in \[0.1, 0.2\] s"):
         plan_reference("bang", 0.8, params, t_max_s=0.2)
-    with pytest.raises(ReferenceLawError, match=r"a1 = 72.0 N is not below the force limit F_max = 25 N"):
-        time_optimal(0.5, params.replace(tau_max=0.1))
+    with pytest.raises(ParameterError, match=r"F_max = tau_max·i_r/r = 25 N, not above the Coulomb friction"):
+        params.replace(tau_max=0.1)
     with pytest.raises(MoveError, match="longer than the stroke"):
         time_optimal(0.9, params)
 
@@ -154,3 +155,15 @@ def test_without_viscous_and_low_speed_friction_the_top_speed_is_v_max(params):
     prof = time_optimal(0.8, p)  # constant friction: v² = 2·D / (M/(F − a1) + M/(F + a1))
     expected = math.sqrt(2 * 0.8 / (p.M_eq / (p.f_max - p.a1) + p.M_eq / (p.f_max + p.a1)))
     assert prof.cruise_velocity_m_s == pytest.approx(expected, rel=1e-9)
+
+
+def test_a_move_below_one_encoder_count_is_the_zero_profile(params):
+    """Shorter than one count (2π·r/131072 = 1.917 µm): the reference laws plan nothing, in no time."""
+    for d in (5e-324, 1e-310, 1e-6):
+        assert time_optimal(d, params).duration_s == 0.0
+        assert least_energy(d, 0.0, params).duration_s == 0.0
+        plan = plan_reference("least-energy", d, params, minimise_time=False)
+        assert (plan.duration_s, plan.energy_j, plan.objective) == (0.0, 0.0, 0.0)
+    assert time_optimal(2e-6, params).duration_s > 0.0
+    with pytest.raises(MoveError, match=r"duration_s = 0\.0 s must be a finite number > 0 s"):
+        least_energy(0.1, 0.0, params)

@@ -55,6 +55,27 @@ def test_runs_both_cases_back_to_back_with_plan_records(thread_bridge, port, sol
         )
 
 
+def test_moves_shorter_than_one_encoder_count_are_not_sent(thread_bridge, port):
+    """Repeated way points and ones within a count (1.917 µm) of the one before are zero moves: nothing
+    is sent or published for them, and the moves around them still run back to back."""
+    points = np.array([0.1, 0.1, 0.1 + 1e-7, 0.55, 0.55, 0.2, 0.2 + 1e-310, 0.7, 0.7])
+    with (
+        thread_bridge(port, speed=5.0) as bridge,
+        open_session(ZenohOptions.loopback(connect_port=port)) as session,
+        _node(session, (NodeRun(Case.MIN_TIME, "poly5"),)) as node,
+    ):
+        (report,) = node.run(points)
+        records = bridge.plan_records()
+    assert report.zero_moves == [1, 2, 4, 6, 8]
+    moves = report.experiment
+    assert [m.index for m in moves] == [3, 5, 7]
+    assert [m.command.end_position_m for m in moves] == pytest.approx([0.55, 0.2, 0.7])
+    assert all(m.completed is not None for m in moves)
+    assert report.idle_ticks == [0, 0]
+    assert sorted(r.waypoint_index for r in records if r.waypoint_index > 0) == [3, 5, 7]
+    assert "3 moves (+5 zero moves, not sent)" in report.summary()
+
+
 def test_a_move_the_bridge_refuses_stops_the_run_with_its_reason(thread_bridge, port):
     strict = default_params().replace(tau_max=2.0)  # the bridge allows half the torque the planner plans for
     with (

@@ -40,8 +40,8 @@ def test_rejections_name_value_and_limit(cmd, match):
 
 
 def test_torque_limit_rejects():
-    queue = MoveQueue(PARAMS.replace(tau_max=0.2), 0.2, T0, "a0")
-    with pytest.raises(MoveRejectedError, match=r"peak motor torque 0.7\d* N·m exceeds tau_max = 0.2 N·m"):
+    queue = MoveQueue(PARAMS.replace(tau_max=0.5), 0.2, T0, "a0")  # F_max = 167 N > a1 = 100 N
+    with pytest.raises(MoveRejectedError, match=r"peak motor torque 0.7\d* N·m exceeds tau_max = 0.5 N·m"):
         queue.submit(_move(0.2, 0.6, 1.0), 0)
 
 

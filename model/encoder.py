@@ -1,0 +1,20 @@
+"""The axis's position encoder: the smallest distance the drive resolves.
+
+The paper measures the cart's position only through the driven pulley's angle. Its encoder (and the
+simulated plant's, acquisition/drives/default_plant.toml) has 2^17 counts per pulley revolution, so
+one count is 2π·r/131072 of cart travel: 1.917 µm at the default r = 0.04 m. A move shorter than one
+count cannot be observed by the drive, nor commanded to it in any meaningful way: the planner plans it
+as a zero move (docs/planner.md, "Zero moves").
+"""
+
+from __future__ import annotations
+
+import math
+
+ENCODER_COUNTS_PER_REV = 131072
+"""counts per pulley revolution of the axis's encoder (17 bit)"""
+
+
+def encoder_resolution_m(r_m: float, counts_per_rev: int = ENCODER_COUNTS_PER_REV) -> float:
+    """Cart travel of one encoder count [m]: 2π·r/counts_per_rev (r: pulley pitch radius [m])."""
+    return 2.0 * math.pi * r_m / counts_per_rev
