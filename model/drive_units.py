@@ -39,6 +39,12 @@ INT32_MIN, INT32_MAX = -(1 << 31), (1 << 31) - 1
 ArrayLike = float | int | np.ndarray
 
 
+def metres_per_count(counts_per_rev: int, gear_ratio: float, r_m: float) -> float:
+    """Cart travel of one count of an encoder with ``counts_per_rev`` counts per revolution of a shaft
+    that turns ``gear_ratio`` times per pulley revolution (the motor: i_r; the pulley itself: 1) [m]."""
+    return 2.0 * math.pi * r_m / (counts_per_rev * gear_ratio)
+
+
 @dataclass(frozen=True)
 class DriveUnits:
     """The unit conversions of one drive on one axis (see the module docstring)."""
@@ -82,7 +88,7 @@ class DriveUnits:
     @property
     def metres_per_count(self) -> float:
         """Cart travel of one encoder count [m] (the position resolution)."""
-        return 2.0 * math.pi * self.r / (self.counts_per_rev * self.i_r)
+        return metres_per_count(self.counts_per_rev, self.i_r, self.r)
 
     @property
     def newton_metres_per_unit(self) -> float:

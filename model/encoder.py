@@ -9,7 +9,7 @@ as a zero move (docs/planner.md, "Zero moves").
 
 from __future__ import annotations
 
-import math
+from .drive_units import metres_per_count
 
 ENCODER_COUNTS_PER_REV = 131072
 """counts per pulley revolution of the axis's encoder (17 bit)"""
@@ -17,4 +17,4 @@ ENCODER_COUNTS_PER_REV = 131072
 
 def encoder_resolution_m(r_m: float, counts_per_rev: int = ENCODER_COUNTS_PER_REV) -> float:
     """Cart travel of one encoder count [m]: 2π·r/counts_per_rev (r: pulley pitch radius [m])."""
-    return 2.0 * math.pi * r_m / counts_per_rev
+    return metres_per_count(counts_per_rev, 1.0, r_m)  # the encoder turns with the pulley
