@@ -1,7 +1,7 @@
 """The measured signals of one joint of a log, in the cart's SI units, checked for what the fit needs.
 
 A ``sensor_msgs/msg/JointState`` joint is read with the fast log reader
-(:func:`axisflow.acquisition.logs.log_reader.read_joint_states`) and converted to the cart's frame with the
+(:func:`axisflow.acquisition.logs.reader.read_joint_states`) and converted to the cart's frame with the
 axis geometry (r, i_r of the parameter file):
 
 * a **motor** joint (angle [rad], speed [rad/s], torque [N·m]): x = θ·r/i_r, ẋ = ω·r/i_r,
@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..acquisition.logs.log_reader import read_joint_states
+from ..acquisition.logs.reader import read_joint_states
 from ..model import AxisflowError, AxisParams
 
 GAP_TOLERANCE = 0.5

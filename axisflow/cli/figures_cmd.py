@@ -6,7 +6,7 @@ import argparse
 import json
 import sys
 
-from ..acquisition.logs.recording import check_mcap
+from ..acquisition.logs.reader import check_mcap
 from ..arguments import add_params_option, non_negative_int, params_from_args, waypoint_count
 from ..paper import FIG5_WAYPOINTS
 from ..waypoints import random_waypoints

@@ -528,7 +528,7 @@ CASES = [
         "still.mcap",
         "-o",
         "still.mcap",
-        says=("must differ from the source",),
+        says=("output still.mcap is the input still.mcap", "must never write over an input"),
         untouched=("still.mcap",),
     ),
     # security, the router, the demo
