@@ -212,7 +212,7 @@ def load_joint(
     grid_ns = offset_ns + k * step_ns
     jitter_s = float(np.max(np.abs(since_first - grid_ns))) * 1e-9
     t = (grid_ns - grid_ns[0]) * 1e-9
-    if n_bad:
+    if not finite.all():  # non-finite values and skipped samples
         q, qd, effort = (_fill(t, a, finite) for a in (q, qd, effort))
     signals = JointSignals(
         source=str(path),
@@ -275,7 +275,7 @@ def _open_holes(
     for row in inner:
         missing = round((stamps[row] - stamps[row - 1]) / step) - 1 if step > 0 else 0
         at += [row] * max(missing, 0)
-        put_back += [int(stamps[row - 1] + k * step) for k in range(1, missing + 1)]
+        put_back += [int(stamps[row - 1]) + round(k * step) for k in range(1, missing + 1)]
     where = np.array(at, dtype=np.intp)
     filled = tuple(np.insert(a, where, np.nan) for a in arrays)
     mask = np.insert(np.zeros(stamps.size, dtype=bool), where, True)

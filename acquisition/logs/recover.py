@@ -21,7 +21,7 @@ from ...model.files import atomic_path, check_output_file
 from ..errors import RecordingError
 from .mcap_writer import Ros2McapWriter
 from .reader import SkippedChunk, check_mcap, is_complete, iter_recording
-from .reader.messages import skipped_note, skipped_summary
+from .reader.messages import skipped_summary, why_nothing
 
 PROGRESS_EVERY = 100_000
 """messages between two calls of ``progress``"""
@@ -78,10 +78,7 @@ def recover(
     records = iter_recording(src, on_skip=skipped.append)
     first_record = next(records, None)
     if first_record is None:
-        raise RecordingError(
-            f"{src} holds no complete message to recover (its first chunk was never written)"
-            + skipped_note(skipped)
-        )
+        raise RecordingError(f"{src} holds no complete message to recover ({why_nothing(skipped)})")
     channel_ids: dict[int, int] = {}
     n, first, last = 0, 0, 0
     with atomic_path(dst) as part:

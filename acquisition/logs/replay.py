@@ -34,7 +34,7 @@ from ..errors import AcquisitionError, RecordingError
 from ..wire.keys import key_for_topic
 from ..wire.messages import MOVE_TYPE
 from .reader import McapFile, SkippedChunk, iter_recording
-from .reader.messages import skipped_note, skipped_summary
+from .reader.messages import skipped_summary, why_nothing
 
 PROGRESS_INTERVAL_S = 2.0
 """wall time between two calls of ``progress`` [s]"""
@@ -115,10 +115,7 @@ def replay(
     records = iter_recording(path, on_skip=skipped.append)
     first_record = next(records, None)
     if first_record is None:
-        raise RecordingError(
-            f"{path} holds no complete message to replay (its first chunk was never written)"
-            + skipped_note(skipped)
-        )
+        raise RecordingError(f"{path} holds no complete message to replay ({why_nothing(skipped)})")
     span_s = recorded_span_s(path) if progress is not None else None
     next_progress = time.monotonic()
     stop = stop or threading.Event()

@@ -212,6 +212,18 @@ def skipped_summary(skipped: Iterable[SkippedChunk], lost: str = "lost") -> str:
     return f"skipped {len(chunks)} chunk(s) that could not be read ({total} messages {lost}): {where}"
 
 
+def why_nothing(skipped: Iterable[SkippedChunk]) -> str:
+    """Why a pass over a whole file found no message to use, for an error message."""
+    chunks = list(skipped)
+    if not chunks:
+        return "its first chunk was never written"
+    first = chunks[0].chunk
+    return (
+        f"{len(chunks)} chunk(s) could not be read; the first: chunk {first.ordinal} at byte "
+        f"{first.offset}: {first.reason}"
+    )
+
+
 def skipped_note(skipped: Iterable[SkippedChunk]) -> str:
     """What a read skipped, as a clause for an error message ("" if nothing)."""
     chunks = list(skipped)
