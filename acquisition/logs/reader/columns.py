@@ -136,20 +136,32 @@ class JointStateColumns:
 # ---- decoding --------------------------------------------------------------------------------------
 
 
+@dataclass(frozen=True, eq=False)
+class _KnownLayout:
+    """The layout of the last batch decoded vectorised and a payload it was found in."""
+
+    layout: JointStateLayout
+    payload: np.ndarray
+
+
 def _decode_vectorised(
-    data: np.ndarray, offsets: np.ndarray, heads: np.ndarray
-) -> tuple[JointStateLayout, DecodedJointStates] | None:
-    """The payloads decoded at fixed offsets, or None if they do not all share the first one's layout."""
+    data: np.ndarray, offsets: np.ndarray, heads: np.ndarray, known: _KnownLayout | None
+) -> tuple[_KnownLayout, DecodedJointStates] | None:
+    """The payloads decoded at fixed offsets, or None if they do not all share one layout: the
+    ``known`` one (checked against its payload's constant bytes, which spares finding it again in
+    every chunk), else the first payload's."""
     lengths = heads["length"]
     length = int(lengths[0])
     if bool((lengths != length).any()):
         return None
     payloads = rows(data, offsets + MESSAGE_HEAD_SIZE, length - MESSAGE_FIELDS_SIZE)
-    layout = JointStateLayout.of(payloads[0].tobytes())
-    if layout is None or not layout.matches(payloads):
-        return None
+    if known is None or not known.layout.matches(payloads, known.payload):
+        layout = JointStateLayout.of(payloads[0].tobytes())
+        if layout is None or not layout.matches(payloads):
+            return None
+        known = _KnownLayout(layout, payloads[0].copy())
     try:
-        return layout, layout.decode(payloads)
+        return known, known.layout.decode(payloads)
     except WireError:  # a bad stamp: the per-message path names the message
         return None
 
@@ -223,6 +235,7 @@ class _ColumnsRead:
         self.stamp_range: tuple[int, int] | None = None
         self.builder = _ColumnBuilder(0)
         self.holes: list[Hole] = []
+        self._known: _KnownLayout | None = None
 
     def reserve(self, rows: int) -> None:
         """Preallocate the result for ``rows`` rows (e.g. the summary's message count)."""
@@ -255,9 +268,10 @@ class _ColumnsRead:
         """Decode a batch of the topic's message records and keep the rows in the time range."""
         data = np.frombuffer(batch.buffer, np.uint8)
         heads = batch.heads
-        fast = None if self.per_message else _decode_vectorised(data, batch.offsets, heads)
+        fast = None if self.per_message else _decode_vectorised(data, batch.offsets, heads, self._known)
         if fast is not None:
-            layout, decoded = fast
+            self._known, decoded = fast
+            layout = self._known.layout
             self._check_joints(layout.joint_names, heads, 0)
             frame_ids = [layout.frame_id]
             self.decoded["vectorised"] += len(heads)

@@ -51,7 +51,7 @@ from .framing import (
 
 LOOSE_BATCH_BYTES = 4 << 20
 """messages outside chunks are handed on in batches of this many bytes"""
-PREFETCH_BLOCKS = 2
+PREFETCH_BLOCKS = 16
 """blocks (chunks, loose records) read ahead of the one being handed on; the chunks among them that
 will be needed are decompressed meanwhile"""
 
