@@ -233,6 +233,9 @@ def _fsync_path(path: Path, directory: bool = False) -> None:
 
 
 def _new_part(target: Path) -> Path:
+    """A new, empty temporary file beside ``target``. Call it with signals held
+    (:func:`signals_held`) until its name is stored where the clean-up finds it: a signal in between
+    would leave the file behind."""
     fd, tmp = tempfile.mkstemp(
         prefix=f".{target.name[:_PART_NAME_CHARS]}.", suffix=PART_SUFFIX, dir=target.parent
     )
@@ -254,16 +257,18 @@ def atomic_path(path: str | Path) -> Iterator[Path]:
     through the command line — it is removed. So ``path`` is either the old file or the whole new
     one."""
     target = Path(path)
+    part: Path | None = None
     try:
-        part = _new_part(target)
-    except OSError as exc:
-        raise OutputError(f"cannot write {target}: {_reason(exc)}") from None
-    try:
+        with signals_held():
+            part = _new_part(target)
         yield part
         _finish_part(part)
         os.replace(part, target)
-    except BaseException:
-        part.unlink(missing_ok=True)
+    except BaseException as exc:
+        if part is not None:
+            part.unlink(missing_ok=True)
+        if isinstance(exc, OSError) and part is None:
+            raise OutputError(f"cannot write {target}: {_reason(exc)}") from None
         raise
     _fsync_path(target.parent if str(target.parent) else Path("."), directory=True)
 
@@ -314,7 +319,8 @@ def write_atomic_files(folder: str | Path, files: Mapping[str, str | bytes]) -> 
     try:
         for name, data in files.items():
             target = out / name
-            part = parts[target] = _new_part(target)
+            with signals_held():
+                part = parts[target] = _new_part(target)
             _write_part(part, data)
             _finish_part(part)
         with signals_held():
