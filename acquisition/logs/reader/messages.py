@@ -250,6 +250,7 @@ class MessageScan:
         self.damaged: list[DamagedChunk] = []
         self._unwalked: list[ChunkRef] = []
         self._walked: set[int] = set()
+        """ordinals of the chunks walked record by record"""
         self._loose = bytearray()
         self._loose_offsets: list[int] = []
         self._zstd = zstandard.ZstdDecompressor()
@@ -346,7 +347,7 @@ class MessageScan:
                     return
                 yield MessageBatch(data, offsets, heads, self._where(chunk))
         chunk.indexes = {}  # done with them; an unwalked chunk is kept only to be walked later
-        if id(chunk) not in self._walked:
+        if chunk.ordinal not in self._walked:
             self._unwalked.append(chunk)
 
     def _skip(self, chunk: ChunkRef, damage: ChunkError) -> Iterator[SkippedChunk]:
@@ -383,7 +384,7 @@ class MessageScan:
             return exc
         for record in contents.definitions:
             self.catalog.add(record)
-        self._walked.add(id(chunk))
+        self._walked.add(chunk.ordinal)
         return contents
 
     def _discover(self, chunk: ChunkRef) -> None:
