@@ -320,8 +320,7 @@ class McapFile:
                 pending = None
             if opcode == Opcode.CHUNK:
                 self.chunks += 1
-                head = self.read(body, min(length, 4096))
-                pending = ChunkRef.parse(self.chunks, head, body, length)
+                pending = ChunkRef.parse(self.chunks, self._chunk_head(body, length), body, length)
             elif opcode in (Opcode.SCHEMA, Opcode.CHANNEL, Opcode.MESSAGE):
                 start = body - RECORD_PREFIX.size
                 yield LooseRecord(opcode, start, self.read(start, length + RECORD_PREFIX.size))
@@ -330,6 +329,17 @@ class McapFile:
             # walks the chunk instead
             pending.indexes_complete = bool(pending.indexes) and not self.truncated
             yield pending
+
+    def _chunk_head(self, body: int, length: int) -> bytes:
+        """The bytes of a chunk record's body before its data: fixed fields, compression name and
+        records length."""
+        head = self.read(body, min(length, 64))
+        if len(head) >= _CHUNK_FIXED.size:
+            name_length = _CHUNK_FIXED.unpack_from(head)[-1]
+            needed = _CHUNK_FIXED.size + name_length + 8
+            if needed > len(head):
+                head = self.read(body, min(length, needed))
+        return head
 
     def _records(self) -> Iterator[tuple[int, int, int]]:
         """(opcode, body offset, body length) of each complete top-level record up to the footer."""

@@ -196,3 +196,15 @@ def test_recover_salvages_every_good_chunk_into_a_file_every_tool_opens(log, dam
             rows[chunk.entity_path] = rows.get(chunk.entity_path, 0) + chunk.num_rows
     assert rows == {f"{STATE}/position": 3000 - lost[STATE]}
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.mcap", "fixed.mcap", "fixed.rrd"]
+
+
+def test_a_chunk_in_a_compression_nobody_reads_is_skipped_and_named(log, damage, tmp_path):
+    data = bytearray(log.read_bytes())
+    record, _start, _length = damage.chunks(log)[DAMAGED]
+    assert data[record + 41 : record + 45] == b"zstd"
+    data[record + 41 : record + 45] = b"zst9"
+    bad = tmp_path / "zst9.mcap"
+    bad.write_bytes(bytes(data))
+    cols, lines = read_warning(bad, STATE)
+    assert len(cols.holes) == 1 and len(lines) == 1
+    assert "it uses compression 'zst9'; readable: zstd, lz4 or none" in lines[0]
