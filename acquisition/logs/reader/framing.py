@@ -36,7 +36,6 @@ from __future__ import annotations
 
 import os
 import struct
-import zlib
 from collections import defaultdict
 from collections.abc import Iterator
 from dataclasses import dataclass, field
@@ -53,6 +52,7 @@ from mcap.opcode import Opcode
 from mcap.reader import make_reader
 from mcap.records import Channel, Schema
 from mcap.summary import Summary
+from zlib_ng.zlib_ng import crc32
 
 from ....model.files import InputError, check_input_file
 from ...errors import RecordingError
@@ -233,9 +233,9 @@ class ChunkRef:
             raise ChunkError(f"its {self.compression} data do not decompress ({exc})") from None
         if len(out) != self.uncompressed_size:
             raise ChunkError(f"it decompresses to {len(out)} bytes, its header says {self.uncompressed_size}")
-        if self.uncompressed_crc and zlib.crc32(out) != self.uncompressed_crc:
+        if self.uncompressed_crc and (crc := crc32(out)) != self.uncompressed_crc:
             raise ChunkError(
-                f"its records fail their CRC check (CRC-32 {zlib.crc32(out):#010x}, the header says "
+                f"its records fail their CRC check (CRC-32 {crc:#010x}, the header says "
                 f"{self.uncompressed_crc:#010x})"
             )
         return out
@@ -290,20 +290,16 @@ class McapFile:
         self.close()
 
     def read(self, offset: int, length: int) -> bytes:
-        """``length`` bytes at ``offset`` (for the thread walking the records)."""
+        """``length`` bytes at ``offset``."""
         self.fh.seek(offset)
         return self.fh.read(length)
 
-    def pread(self, offset: int, length: int) -> bytes:
-        """``length`` bytes at ``offset``, safe from any thread (no shared file position)."""
-        return os.pread(self.fh.fileno(), length, offset)
-
     def load(self, chunk: ChunkRef, zstd: zstandard.ZstdDecompressor) -> bytes:
-        """The decompressed, checked records of ``chunk`` (any thread, one ``zstd`` per thread);
-        :class:`ChunkError` if they cannot be had."""
+        """The decompressed, checked records of ``chunk``; :class:`ChunkError` if they cannot be
+        had."""
         if chunk.header_damage is not None:
             raise ChunkError(chunk.header_damage)
-        return chunk.decompress(self.pread(chunk.data_offset, chunk.data_length), zstd)
+        return chunk.decompress(self.read(chunk.data_offset, chunk.data_length), zstd)
 
     def blocks(self) -> Iterator[ChunkRef | LooseRecord]:
         """The file in order: each chunk (after the message indexes that follow it) and each

@@ -6,9 +6,7 @@ a time and in file order, with their raw payloads; chunks that cannot be read ar
 :class:`MessageBatch` per chunk (or batch of messages outside chunks) holding messages of the selected
 channels — the decompressed records, the offsets of those messages and their checked 31-byte heads —
 and a :class:`SkippedChunk` for each chunk that cannot be read and may have held some. Chunks whose
-message index names none of the selected channels are not decompressed; the next chunk to be
-decompressed is, on a worker thread, while the current one is decoded (decompression and the CRC
-check release the GIL).
+message index names none of the selected channels are not decompressed.
 
 On top of it: :func:`list_topics` (:class:`TopicInfo` with message counts), :func:`read_messages`
 (one topic's payloads as :class:`RawMessage`) and :func:`iter_recording` (every message as a
@@ -20,9 +18,8 @@ the file, the chunk, its byte offset, the reason and what was lost) once the rea
 from __future__ import annotations
 
 import warnings
-from collections import Counter, deque
+from collections import Counter
 from collections.abc import Callable, Iterable, Iterator
-from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -51,9 +48,6 @@ from .framing import (
 
 LOOSE_BATCH_BYTES = 4 << 20
 """messages outside chunks are handed on in batches of this many bytes"""
-PREFETCH_BLOCKS = 16
-"""blocks (chunks, loose records) read ahead of the one being handed on; the chunks among them that
-will be needed are decompressed meanwhile"""
 
 
 # ---- what a file holds -------------------------------------------------------------------------------
@@ -261,27 +255,15 @@ class MessageScan:
 
     def events(self) -> Iterator[MessageBatch | SkippedChunk]:
         """The selected messages, a batch at a time, and the chunks skipped, in file order."""
-        worker = ThreadPoolExecutor(1, thread_name_prefix="axisflow-chunk-reader")
-        worker_zstd = zstandard.ZstdDecompressor()  # a decompressor is used by one thread only
-        ahead: deque[tuple[ChunkRef | LooseRecord, Future | None]] = deque()
-        try:
-            for block in self.file.blocks():
-                future = None
-                if isinstance(block, ChunkRef) and self._may_need(block):
-                    future = worker.submit(self._load_quietly, block, worker_zstd)
-                elif isinstance(block, LooseRecord) and block.opcode != Opcode.MESSAGE:
-                    self._learn(block)
-                ahead.append((block, future))
-                if len(ahead) > PREFETCH_BLOCKS:
-                    yield from self._handle(*ahead.popleft())
-            while ahead:
-                yield from self._handle(*ahead.popleft())
-            yield from self._flush_loose()
-        finally:
-            for _block, future in ahead:
-                if future is not None:
-                    future.cancel()
-            worker.shutdown(wait=True, cancel_futures=True)
+        for block in self.file.blocks():
+            if isinstance(block, ChunkRef):
+                yield from self._flush_loose()  # the messages before the chunk come first
+                yield from self._chunk(block)
+            elif block.opcode == Opcode.MESSAGE:
+                yield from self._loose_message(block)
+            else:
+                self._learn(block)
+        yield from self._flush_loose()
 
     # -- blocks
 
@@ -289,33 +271,16 @@ class MessageScan:
         body = block.record[RECORD_PREFIX.size :]
         self.catalog.add(parse_definition(block.opcode, body, f"{self.file.path}: byte {block.offset}"))
 
-    def _handle(
-        self, block: ChunkRef | LooseRecord, future: Future | None
-    ) -> Iterator[MessageBatch | SkippedChunk]:
-        if isinstance(block, LooseRecord):
-            if block.opcode == Opcode.MESSAGE:
-                yield from self._loose_message(block)
-            return
-        yield from self._flush_loose()  # the messages before the chunk come first
-        yield from self._chunk(block, future)
-
     def _wanted(self) -> set[int]:
         return self.selection.wanted_ids() if self.selection is not None else set()
 
-    def _may_need(self, chunk: ChunkRef) -> bool:
-        """Whether the chunk's records will be needed (decided ahead: a channel unknown now may turn
-        out to be wanted)."""
-        if not chunk.indexes_complete or not self.catalog.knows(chunk.indexes):
-            return True
-        return self.selection is not None and not self._wanted().isdisjoint(chunk.indexes)
-
-    def _chunk(self, chunk: ChunkRef, future: Future | None) -> Iterator[MessageBatch | SkippedChunk]:
+    def _chunk(self, chunk: ChunkRef) -> Iterator[MessageBatch | SkippedChunk]:
         data: bytes | ChunkError | None = None
         if chunk.indexes_complete:
             self.counts.update({cid: len(offsets) for cid, offsets in chunk.indexes.items()})
             offsets_by_channel = chunk.indexes
             if not self.catalog.knows(chunk.indexes):
-                data = self._result(chunk, future)
+                data = self._load(chunk)
                 if not isinstance(data, ChunkError):
                     contents = self._walk(chunk, data)
                     if isinstance(contents, ChunkError):
@@ -323,7 +288,7 @@ class MessageScan:
                     else:
                         self._discover(chunk)
         else:  # no (complete) message index: find the messages record by record
-            data = self._result(chunk, future)
+            data = self._load(chunk)
             contents = data if isinstance(data, ChunkError) else self._walk(chunk, data)
             if isinstance(contents, ChunkError):
                 yield from self._skip(chunk, contents)
@@ -334,7 +299,7 @@ class MessageScan:
         unknown = not self.catalog.knows(offsets_by_channel)
         if wanted or (unknown and self.selection is not None) or isinstance(data, ChunkError):
             if data is None:
-                data = self._result(chunk, future)
+                data = self._load(chunk)
             if isinstance(data, ChunkError):
                 yield from self._skip(chunk, data)
                 return
@@ -365,16 +330,12 @@ class MessageScan:
 
     # -- loading and walking chunks
 
-    def _load_quietly(self, chunk: ChunkRef, zstd: zstandard.ZstdDecompressor) -> bytes | ChunkError:
+    def _load(self, chunk: ChunkRef) -> bytes | ChunkError:
+        """The chunk's records, or why they cannot be had."""
         try:
-            return self.file.load(chunk, zstd)
+            return self.file.load(chunk, self._zstd)
         except ChunkError as exc:
             return exc
-
-    def _result(self, chunk: ChunkRef, future: Future | None) -> bytes | ChunkError:
-        if future is not None:
-            return future.result()
-        return self._load_quietly(chunk, self._zstd)
 
     def _walk(self, chunk: ChunkRef, data: bytes) -> ChunkContents | ChunkError:
         """Walk the chunk's records: learn its schemas and channels, find its messages."""
@@ -393,7 +354,7 @@ class MessageScan:
         if self.catalog.knows(chunk.indexes):
             return
         for earlier in self._unwalked:
-            records = self._load_quietly(earlier, self._zstd)
+            records = self._load(earlier)
             if not isinstance(records, ChunkError):
                 self._walk(earlier, records)
         self._unwalked.clear()
