@@ -21,8 +21,8 @@ through :meth:`JointState.decode` one message at a time (the *per-message* path)
 columns (tested bit for bit).
 
 Memory: the result (3.6 M rows × 2 joints = ~290 MB for an hour) is preallocated from the summary's
-message counts (grown when there is none) and filled chunk by chunk; only the chunks being decoded and
-decompressed ahead are held. docs/acquisition.md gives the speed, with the command that measures it.
+message counts (grown when there is none) and filled chunk by chunk; one decompressed chunk is held at
+a time. docs/acquisition.md gives the speed, with the command that measures it.
 """
 
 from __future__ import annotations
