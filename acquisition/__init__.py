@@ -27,6 +27,7 @@ from .drives.sim_axis import PlantConfig, SimulatedAxis, load_plant
 from .errors import (
     AcquisitionError,
     BridgeLostError,
+    DamagedLogWarning,
     MoveRejectedError,
     PlantError,
     RecordingError,
@@ -34,16 +35,21 @@ from .errors import (
     ZenohConfigError,
     ZenohConnectError,
 )
-from .logs.log_reader import (
+from .logs.reader import (
+    DamagedChunk,
+    Hole,
     JointColumns,
     JointStateColumns,
     RawMessage,
+    RecordedMessage,
+    SkippedChunk,
     TopicInfo,
+    is_complete,
+    iter_recording,
     list_topics,
     read_joint_states,
     read_messages,
 )
-from .logs.recording import RecordedMessage, is_complete, iter_recording
 from .logs.recover import RecoverReport, recover
 from .wire.attachment import Attachment
 from .wire.keys import AxisKeys, KeyExprError, all_keys, key_for_topic, topic_for_key
@@ -96,7 +102,10 @@ __all__ = [
     "Attachment",
     "AxisKeys",
     "AxisSample",
+    "DamagedChunk",
+    "DamagedLogWarning",
     "Drive",
+    "Hole",
     "JointColumns",
     "JointState",
     "JointStateColumns",
@@ -114,6 +123,7 @@ __all__ = [
     "RecordingError",
     "RecoverReport",
     "Setpoint",
+    "SkippedChunk",
     "SimulatedAxis",
     "TopicInfo",
     "WireError",

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import re
 
-from ..model import AxisflowError
+from ..model import AxisflowError, AxisflowWarning
 
 
 class AcquisitionError(AxisflowError):
@@ -43,6 +43,11 @@ class ZenohConnectError(AcquisitionError):
 
 class RecordingError(AcquisitionError):
     """An MCAP recording cannot be written, read or recovered."""
+
+
+class DamagedLogWarning(AxisflowWarning):
+    """A part of a recording (a chunk) could not be read and was skipped; the message names the file,
+    the chunk, its byte offset, the reason and what was lost."""
 
 
 def zenoh_reason(exc: BaseException) -> str:

@@ -9,7 +9,7 @@ from pathlib import Path
 from .identification.refit import Identification, IdentifySettings, identify
 from .identification.report import params_file, report_json, report_markdown
 from .model import AxisParams
-from .model.files import ensure_dir, write_atomic
+from .model.files import ensure_dir, write_atomic_files
 from .viz.identification_figure import identification_png
 
 REFIT_FILES = ("params.toml", "report.json", "report.md", "fit.png")
@@ -22,15 +22,13 @@ def identify_to(
     settings: IdentifySettings | None = None,
     validate: Sequence[str | Path] = (),
 ) -> tuple[Identification, dict]:
-    """Refit from ``paths`` and write :data:`REFIT_FILES` into ``out`` (each atomically, after the whole
-    refit succeeded: a failure writes nothing). Returns the result and report.json's content."""
+    """Refit from ``paths`` and write :data:`REFIT_FILES` into ``out`` (together and atomically, after
+    the whole refit succeeded: a failure or a signal writes none of them). Returns the result and
+    report.json's content."""
     ident = identify(paths, nominal, settings, validate)
     report = report_json(ident)
     markdown = report_markdown(report)
     figure = identification_png(ident.traces())
-    folder = ensure_dir(out)
-    write_atomic(folder / "params.toml", params_file(ident))
-    write_atomic(folder / "report.json", json.dumps(report, indent=1) + "\n")
-    write_atomic(folder / "report.md", markdown)
-    write_atomic(folder / "fit.png", figure)
+    contents = (params_file(ident), json.dumps(report, indent=1) + "\n", markdown, figure)
+    write_atomic_files(ensure_dir(out), dict(zip(REFIT_FILES, contents, strict=True)))
     return ident, report

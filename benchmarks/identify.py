@@ -5,7 +5,7 @@ Steps:
 
 1. a synthetic one-hour log (``--hours``) of one axis, ``/axisflow/a0/state`` and ``setpoint``
    interleaved at 1 kHz, 7.2 M messages, measured torque from a "true" axis that differs from the
-   nominal one (benchmarks/synthetic_log.py; writing it is not timed; ``--log FILE`` keeps it between
+   nominal one (acquisition/logs/synthetic_log.py; writing it is not timed; ``--log FILE`` keeps it between
    runs);
 2. ``axisflow identify`` on it in a fresh process: its own stage timings (read, prepare, solve,
    total), the process's peak RSS, and how far the refit lands from the true parameters;
@@ -26,8 +26,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from ..acquisition.logs.synthetic_log import SyntheticLogSpec, write_synthetic_log
 from ..model import default_params
-from .synthetic_log import SyntheticLogSpec, write_synthetic_log
 
 GOAL_TOTAL_S = 10.0
 GOAL_RSS_MB = 1024.0
@@ -42,7 +42,7 @@ sys.stderr.write(json.dumps({"rc": rc, "peak_rss_mb": peak_mb}))
 """
 _PER_MESSAGE = """
 import json, resource, sys, time
-from axisflow.acquisition.logs.log_reader import read_joint_states
+from axisflow.acquisition import read_joint_states
 t0 = time.perf_counter()
 columns = read_joint_states(sys.argv[1], sys.argv[2], per_message=True)
 print(json.dumps({"read_s": time.perf_counter() - t0, "rows": len(columns),

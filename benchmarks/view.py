@@ -4,7 +4,7 @@ against ``rerun mcap convert`` of the same log in the same run.
 Steps (each command in a fresh process, on this machine's two cores):
 
 1. a synthetic one-hour log of one axis (``/axisflow/a0/state`` and ``setpoint`` interleaved at 1 kHz,
-   7.2 M messages; benchmarks/synthetic_log.py; writing it is not timed; ``--log FILE`` keeps it);
+   7.2 M messages; acquisition/logs/synthetic_log.py; writing it is not timed; ``--log FILE`` keeps it);
 2. ``axisflow view LOG -o FILE.rrd``: wall time of the whole command (interpreter start-up and imports
    included), peak RSS, .rrd size, rows written (read back with rerun's RrdReader, ``--verify``);
 3. the baseline, ``CI=1 rerun mcap convert LOG -o FILE.rrd`` (rerun's own importer, Rust): wall time,
@@ -31,8 +31,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from ..acquisition.logs.synthetic_log import SyntheticLogSpec, write_synthetic_log
 from .pipeline import axis_counts, free_port, play
-from .synthetic_log import SyntheticLogSpec, write_synthetic_log
 
 GOAL_HOUR_S = 10.0
 GOAL_LIVE_P99_MS = 100.0

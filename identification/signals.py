@@ -1,7 +1,7 @@
 """The measured signals of one joint of a log, in the cart's SI units, checked for what the fit needs.
 
 A ``sensor_msgs/msg/JointState`` joint is read with the fast log reader
-(:func:`axisflow.acquisition.logs.log_reader.read_joint_states`) and converted to the cart's frame with the
+(:func:`axisflow.acquisition.logs.reader.read_joint_states`) and converted to the cart's frame with the
 axis geometry (r, i_r of the parameter file):
 
 * a **motor** joint (angle [rad], speed [rad/s], torque [N·m]): x = θ·r/i_r, ẋ = ω·r/i_r,
@@ -12,6 +12,12 @@ Checks, each a one-line :class:`IdentificationError`: the time stamps must incre
 :data:`GAP_TOLERANCE` of the log's median step (a gap or a jump back names its sample and time);
 non-finite values are dropped and counted (an error above :data:`MAX_NONFINITE_FRACTION`); the record
 must be long enough and the axis must move.
+
+Holes. A chunk of the log that could not be read (damaged on disk) leaves a hole in the columns
+(:attr:`~axisflow.acquisition.logs.reader.JointStateColumns.holes`); its samples are put back as
+missing ones (non-finite, at the log's step), so the fit never takes the samples on both sides of a
+hole for neighbours: preparation leaves them out with a guard like any non-finite sample. They are
+counted apart (``skipped``), not against :data:`MAX_NONFINITE_FRACTION`.
 
 Window. A :class:`TimeWindow` keeps the samples of each log between two times (seconds from an origin:
 the log's first sample unless given) and checks only those: a log with a gap or a stretch of no
@@ -33,7 +39,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..acquisition.logs.log_reader import read_joint_states
+from ..acquisition.logs.reader import Hole, read_joint_states
 from ..model import AxisflowError, AxisParams
 
 GAP_TOLERANCE = 0.5
@@ -148,6 +154,8 @@ class JointSignals:
     truncated: bool
     stamp_jitter_s: float
     """the largest deviation of a stamp from the uniform grid ``t_s`` [s]"""
+    skipped: int = 0
+    """samples lost with chunks of the log that could not be read (put back as non-finite ones)"""
 
     @property
     def rate_hz(self) -> float:
@@ -159,7 +167,8 @@ class JointSignals:
 
     @property
     def dropped(self) -> int:
-        return int(np.count_nonzero(~self.finite))
+        """samples with a non-finite value in the log (not counting the ``skipped`` ones)"""
+        return int(np.count_nonzero(~self.finite)) - self.skipped
 
 
 def load_joint(
@@ -180,16 +189,18 @@ def load_joint(
     q = np.asarray(data.position, dtype=float)
     qd = np.asarray(data.velocity, dtype=float)
     effort = np.asarray(data.effort, dtype=float)
+    stamps, (q, qd, effort), skipped = _open_holes(stamps, (q, qd, effort), columns.holes)
     origin_ns, first = (int(stamps[0]) if stamps.size else 0), 0
     if window is not None and not window.whole and stamps.size:
         keep = window.mask(str(path), stamps)
         first = int(np.argmax(keep))  # the window is one stretch: its first sample's index
         if window.origin_ns is not None:
             origin_ns = window.origin_ns
-        stamps, q, qd, effort = stamps[keep], q[keep], qd[keep], effort[keep]
+        stamps, q, qd, effort, skipped = stamps[keep], q[keep], qd[keep], effort[keep], skipped[keep]
     _check_stamps(str(path), stamps, origin_ns, first)
     finite = np.isfinite(q) & np.isfinite(qd) & np.isfinite(effort)
-    n_bad = int(np.count_nonzero(~finite))
+    n_skipped = int(np.count_nonzero(skipped))
+    n_bad = int(np.count_nonzero(~finite)) - n_skipped
     if n_bad > MAX_NONFINITE_FRACTION * finite.size:
         raise IdentificationError(
             f"{path}: {n_bad} of {finite.size} samples of joint {joint!r} have non-finite values "
@@ -201,7 +212,7 @@ def load_joint(
     grid_ns = offset_ns + k * step_ns
     jitter_s = float(np.max(np.abs(since_first - grid_ns))) * 1e-9
     t = (grid_ns - grid_ns[0]) * 1e-9
-    if n_bad:
+    if not finite.all():  # non-finite values and skipped samples
         q, qd, effort = (_fill(t, a, finite) for a in (q, qd, effort))
     signals = JointSignals(
         source=str(path),
@@ -217,6 +228,7 @@ def load_joint(
         finite=finite,
         truncated=columns.truncated,
         stamp_jitter_s=jitter_s,
+        skipped=n_skipped,
     )
     _check_usable(signals)
     return signals
@@ -246,6 +258,28 @@ def _check_stamps(source: str, stamps: np.ndarray, origin_ns: int, first: int) -
             "steps in all); "
             "identify needs an unbroken record: fit the part before or after it (--start/--end)"
         )
+
+
+def _open_holes(
+    stamps: np.ndarray, arrays: tuple[np.ndarray, ...], holes: tuple[Hole, ...]
+) -> tuple[np.ndarray, tuple[np.ndarray, ...], np.ndarray]:
+    """The samples with each hole between two rows filled by missing samples: stamps at the log's
+    median step from the sample before the hole, NaN values. Returns the stamps, the arrays and a mask
+    of the samples put back. (A hole before the first or after the last row shortens the log.)"""
+    inner = [h.row for h in holes if 0 < h.row < stamps.size]
+    if not inner:
+        return stamps, arrays, np.zeros(stamps.size, dtype=bool)
+    step = float(np.median(np.diff(stamps)))
+    at: list[int] = []
+    put_back: list[int] = []
+    for row in inner:
+        missing = round((stamps[row] - stamps[row - 1]) / step) - 1 if step > 0 else 0
+        at += [row] * max(missing, 0)
+        put_back += [int(stamps[row - 1]) + round(k * step) for k in range(1, missing + 1)]
+    where = np.array(at, dtype=np.intp)
+    filled = tuple(np.insert(a, where, np.nan) for a in arrays)
+    mask = np.insert(np.zeros(stamps.size, dtype=bool), where, True)
+    return np.insert(stamps, where, np.array(put_back, dtype=np.int64)), filled, mask
 
 
 def _fill(t: np.ndarray, values: np.ndarray, finite: np.ndarray) -> np.ndarray:

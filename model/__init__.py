@@ -15,7 +15,7 @@ from .dynamics import (
     motor_torque,
 )
 from .energy import count_power, move_energy, trace_energy
-from .errors import AxisflowError, MoveError, ParameterError
+from .errors import AxisflowError, AxisflowWarning, MoveError, ParameterError
 from .friction import (
     FRICTION_PARAMETERS,
     forward_friction,
@@ -55,6 +55,7 @@ __all__ = [
     "POLYNOMIAL_LAWS",
     "AxisParams",
     "AxisflowError",
+    "AxisflowWarning",
     "EnergyAccounting",
     "LimitReport",
     "Motion",

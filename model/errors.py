@@ -18,3 +18,9 @@ class ParameterError(AxisflowError, ValueError):
 
 class MoveError(AxisflowError, ValueError):
     """A move request is invalid: end points outside the stroke, non-finite numbers, bad weights."""
+
+
+class AxisflowWarning(UserWarning):
+    """Root of axisflow's warnings: something a user should know that does not stop the work (a
+    damaged chunk of a log that was skipped). Libraries issue them with :func:`warnings.warn`; the
+    command line prints each as one line on stderr."""

@@ -99,3 +99,52 @@ def _no_leftover_processes():
 @pytest.fixture
 def port() -> int:
     return free_port()
+
+
+class ChunkDamage:
+    """Copies of a real MCAP file with one chunk damaged on disk (a fixture: ``damage``)."""
+
+    HOW = ("flip", "crc", "truncate")
+    """bytes flipped in the compressed data, a wrong CRC in the chunk header, the compressed data cut
+    short (the chunk's records_length halved; the record framing stays intact)"""
+
+    @staticmethod
+    def chunks(path: Path) -> list[tuple[int, int, int]]:
+        """(record offset, data offset, data length) of each Chunk record, in file order."""
+        data = path.read_bytes()
+        out, pos = [], 8
+        while pos + 9 <= len(data):
+            opcode = data[pos]
+            length = int.from_bytes(data[pos + 1 : pos + 9], "little")
+            if opcode == 0x06:
+                name_length = int.from_bytes(data[pos + 37 : pos + 41], "little")
+                at = pos + 41 + name_length
+                out.append((pos, at + 8, int.from_bytes(data[at : at + 8], "little")))
+            if opcode == 0x02:  # footer
+                break
+            pos += 9 + length
+        return out
+
+    @staticmethod
+    def damage(src: Path, dst: Path, chunk: int, how: str) -> int:
+        """Write ``src`` to ``dst`` with chunk number ``chunk`` (from 0) damaged ``how``; returns the
+        chunk's byte offset."""
+        data = bytearray(src.read_bytes())
+        record, start, length = ChunkDamage.chunks(src)[chunk]
+        if how == "flip":
+            middle = start + length // 2
+            data[middle : middle + 16] = bytes(b ^ 0xFF for b in data[middle : middle + 16])
+        elif how == "crc":
+            crc = int.from_bytes(data[record + 33 : record + 37], "little")
+            data[record + 33 : record + 37] = ((crc + 1) & 0xFFFFFFFF).to_bytes(4, "little")
+        elif how == "truncate":
+            data[start - 8 : start] = (length // 2).to_bytes(8, "little")
+        else:
+            raise ValueError(f"unknown damage {how!r}")
+        dst.write_bytes(bytes(data))
+        return record
+
+
+@pytest.fixture(scope="session")
+def damage() -> type[ChunkDamage]:
+    return ChunkDamage

@@ -128,8 +128,8 @@ def test_only_the_network_modules_of_acquisition_touch_zenoh():
     [
         ["axisflow.acquisition"],
         [
-            "axisflow.acquisition.logs.recording",
-            "axisflow.acquisition.logs.log_reader",
+            "axisflow.acquisition.logs.reader",
+            "axisflow.acquisition.logs.synthetic_log",
             "axisflow.acquisition.logs.recover",
             "axisflow.acquisition.wire.messages",
             "axisflow.acquisition.drives.sim_axis",

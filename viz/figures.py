@@ -15,7 +15,8 @@ fig5b.png      minimum time / minimum time-energy (:mod:`.trajectory_figure`; pl
                with the model, or measured from a recording of the planner's runs)
 =============  ==================================================================================
 
-Everything is drawn first and written after, each file atomically: a failure writes nothing.
+Everything is drawn first and written after, all files together and atomically
+(:func:`~axisflow.model.files.write_atomic_files`): a failure or a signal writes none of them.
 """
 
 from __future__ import annotations
@@ -27,7 +28,7 @@ from pathlib import Path
 
 from ..identification.refit import IdentifySettings, identify
 from ..model import AxisParams
-from ..model.files import check_output_dir, ensure_dir, write_atomic
+from ..model.files import check_output_dir, ensure_dir, write_atomic_files
 from ..planner import Case
 from .energy_map_figure import energy_map, energy_map_png
 from .identification_figure import identification_png
@@ -101,9 +102,8 @@ def _fig5(params: AxisParams, waypoints: Sequence[float], case: Case, recording:
 
 
 def save_figures(figures: Figures, out_dir: str | Path) -> list[Path]:
-    """Write the rendered PNGs into ``out_dir`` (created if missing), each atomically."""
-    folder = ensure_dir(check_output_dir(out_dir))
-    return [write_atomic(folder / name, png) for name, png in figures.pngs.items()]
+    """Write the rendered PNGs into ``out_dir`` (created if missing), together and atomically."""
+    return write_atomic_files(ensure_dir(check_output_dir(out_dir)), figures.pngs)
 
 
 def write_figures(

@@ -2,8 +2,9 @@
 loopback — any combination, through one rerun recording stream.
 
 * **File** (``-o FILE.rrd``): the stream is saved to a temporary file beside FILE and renamed onto it
-  when the view finished; a failure (bad input found late, Ctrl-C of a log view, a crash) leaves
-  nothing half-written. :func:`check_rrd_path` refuses an unusable FILE before any work.
+  when the view finished; a failure (bad input found late, Ctrl-C or SIGTERM of a log view, a crash)
+  leaves nothing half-written. :func:`check_rrd_path` refuses an unusable FILE before any work: one
+  not ending in ``.rrd``, one of the view's inputs, an existing one without ``overwrite``.
 * **Viewer** (``--spawn``): the rerun viewer is started as a process of its own (detached: it stays
   when the command ends), its server bound to 127.0.0.1, and the stream connects to it.
 * **Web** (``--serve``): ``rerun --serve-web`` as a child process, its gRPC proxy and its web viewer
@@ -34,7 +35,7 @@ from urllib.parse import quote
 import rerun as rr
 import rerun.blueprint as rrb
 
-from ..model.files import OutputError, atomic_path, check_writable
+from ..model.files import OutputError, atomic_path, check_output_file
 from .errors import VizError
 
 APPLICATION_ID = "axisflow_view"
@@ -55,25 +56,24 @@ def rerun_env() -> dict[str, str]:
     return {**os.environ, "CI": "1", "RUST_LOG": os.environ.get("RUST_LOG", "warn")}
 
 
-def check_rrd_path(path: str | Path) -> Path:
-    """``path`` if an .rrd can be written there (its folder exists and is writable, it is not a
-    folder); else an :class:`OutputError` naming it. Creates nothing."""
-    p = Path(path)
-    folder = p.parent if str(p.parent) else Path(".")
-    if p.is_dir():
-        raise OutputError(f"output {p} is a directory, not a .rrd file")
-    if not folder.is_dir():
-        raise OutputError(f"output {p}: folder {folder} does not exist")
-    check_writable(folder, f"output {p}: folder {folder} is not writable")
-    if p.exists() and not os.access(p, os.W_OK):
-        raise OutputError(f"output {p} exists and is not writable")
-    return p
+def check_rrd_path(path: str | Path, inputs: Sequence[str | Path] = (), overwrite: bool = False) -> Path:
+    """``path`` if an .rrd can be written there: it ends in ``.rrd``, its folder exists and is
+    writable, it is no folder, none of ``inputs`` (the same file under any name), and, unless
+    ``overwrite``, no existing file; else an :class:`OutputError` naming it. Creates nothing."""
+    return check_output_file(path, inputs=inputs, overwrite=overwrite, suffix=".rrd")
 
 
 def view_size_estimate(logs: Sequence[str | Path]) -> int:
     """About how large the .rrd of a view of ``logs`` will be [bytes] (:data:`RRD_BYTES_PER_LOG_BYTE`
     times their size; a log that is not a file counts 0, it is refused later)."""
-    return int(RRD_BYTES_PER_LOG_BYTE * sum(Path(p).stat().st_size for p in logs if Path(p).is_file()))
+    return int(RRD_BYTES_PER_LOG_BYTE * sum(_size(log) for log in logs))
+
+
+def _size(path: str | Path) -> int:
+    try:
+        return os.stat(path).st_size
+    except OSError:
+        return 0
 
 
 def room_for_file(folder: Path) -> tuple[int, str]:
@@ -168,12 +168,16 @@ class ViewOutput:
     expected_bytes: int = 0
     """about how large the .rrd will be (e.g. :func:`view_size_estimate`): refused up front if the
     room for it is smaller (and always below :data:`MIN_FREE_BYTES`)"""
+    inputs: tuple[Path, ...] = ()
+    """the files the view reads: the .rrd must be none of them"""
+    overwrite: bool = False
+    """replace an existing .rrd (without it, one is refused)"""
 
     def __post_init__(self) -> None:
         if self.rrd is None and not self.spawn and not self.serve:
             raise VizError("nowhere to send the view: give -o FILE.rrd, --spawn or --serve")
         if self.rrd is not None:
-            check_rrd_path(self.rrd)
+            check_rrd_path(self.rrd, self.inputs, self.overwrite)
             check_room(self.rrd, self.expected_bytes)
         if self.spawn:
             check_display()

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..acquisition.logs.joint_state_layout import JointStateLayout
-from ..acquisition.logs.log_reader import JointStateColumns
+from ..acquisition.logs.reader import JointStateColumns
 from ..acquisition.wire.messages import CARRIAGE_JOINT, MOTOR_JOINT, JointState
 from .errors import VizError
 
@@ -41,7 +41,7 @@ class AxisSamples:
     @classmethod
     def of_columns(cls, columns: JointStateColumns) -> AxisSamples:
         """The carriage and motor columns of a topic read by
-        :func:`~axisflow.acquisition.logs.log_reader.read_joint_states` (rows in file order)."""
+        :func:`~axisflow.acquisition.logs.reader.read_joint_states` (rows in file order)."""
         return cls.of_joints(
             columns.stamp_ns,
             columns.position,

@@ -24,7 +24,7 @@ from pathlib import Path
 import rerun as rr
 import rerun.blueprint as rrb
 
-from ..acquisition.logs.log_reader import TopicInfo, list_topics, read_joint_states, read_messages
+from ..acquisition.logs.reader import TopicInfo, list_topics, read_joint_states, read_messages
 from ..acquisition.wire.move_status import MOVE_STATUS_TYPE, MoveStatus
 from ..acquisition.wire.plan_record import PLAN_TYPE, PlanRecord
 from ..model import AxisParams

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..acquisition.logs.log_reader import read_joint_states, read_messages
+from ..acquisition.logs.reader import read_joint_states, read_messages
 from ..acquisition.wire.keys import AxisKeys, topic_for_key
 from ..acquisition.wire.move_status import MOVE_STATUS_TYPE, MoveState, MoveStatus
 from ..acquisition.wire.plan_record import PLAN_TYPE, PlanRecord

@@ -27,6 +27,7 @@ malformed or inconsistent payloads) is left to ``JointState.decode``, which name
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -81,7 +82,7 @@ class JointStateLayout:
     def joints(self) -> int:
         return len(self.joint_names)
 
-    @property
+    @cached_property
     def dtype(self) -> np.dtype:
         """A structured dtype of one payload: ``sec`` (<i4), ``nanosec`` (<u4) and the non-empty arrays
         (<f8, shape (joints,)) at their offsets; itemsize = the payload length."""
@@ -95,7 +96,7 @@ class JointStateLayout:
                 offsets.append(offset)
         return np.dtype({"names": names, "formats": formats, "offsets": offsets, "itemsize": self.size})
 
-    @property
+    @cached_property
     def variable_ranges(self) -> tuple[tuple[int, int], ...]:
         """Byte ranges [start, end) that differ between payloads of this shape: the stamp and the
         values of the non-empty arrays, in increasing order."""
@@ -105,7 +106,7 @@ class JointStateLayout:
                 ranges.append((offset, offset + 8 * self.joints))
         return tuple(ranges)
 
-    @property
+    @cached_property
     def constant_ranges(self) -> tuple[tuple[int, int], ...]:
         """Byte ranges [start, end) that payloads of this shape share: the CDR header, frame_id,
         joint names, array counts, padding (and any trailing bytes)."""
@@ -118,12 +119,13 @@ class JointStateLayout:
             out.append((start, self.size))
         return tuple(out)
 
-    def matches(self, rows: np.ndarray) -> bool:
+    def matches(self, rows: np.ndarray, reference: np.ndarray | None = None) -> bool:
         """True if every row of ``rows`` (uint8, shape (n, size)) has this layout's constant bytes as
-        the first row has them. (The layout itself must come from one of the rows, e.g. the first.)"""
+        ``reference`` (a payload this layout was found in, uint8 (size,); default: the first row)
+        has them."""
         if rows.ndim != 2 or rows.shape[1] != self.size:
             return False
-        first = rows[0]
+        first = rows[0] if reference is None else reference
         return all(bool((rows[:, a:b] == first[a:b]).all()) for a, b in self.constant_ranges)
 
     def decode(self, rows: np.ndarray) -> DecodedJointStates:

@@ -30,6 +30,7 @@ from pathlib import Path
 
 import zenoh
 
+from ...model.files import OutputError, check_output_file
 from ..bus.publisher import mcap_encoding_of
 from ..bus.session import check_key_expression, settle
 from ..errors import RecordingError
@@ -79,14 +80,17 @@ class RecorderConfig:
 
 
 def check_outputs(config: RecorderConfig) -> None:
-    """Refuse to start when the output's directory is missing or (without ``overwrite``) the output,
-    or one of its split files, exists already."""
+    """Refuse to start when the output cannot be written (its folder missing or unwritable, its name
+    too long, a directory) or (without ``overwrite``) the output, or one of its split files, exists
+    already."""
     out = Path(config.output)
-    if not out.parent.is_dir():
-        raise RecordingError(f"output directory {out.parent} does not exist")
+    split = config.split_bytes is not None or config.split_duration_s is not None
+    try:
+        check_output_file(split_path(out, 0) if split else out, overwrite=True)
+    except OutputError as exc:
+        raise RecordingError(str(exc)) from None
     if config.overwrite:
         return
-    split = config.split_bytes is not None or config.split_duration_s is not None
     existing = sorted(out.parent.glob(f"{out.stem}_[0-9][0-9][0-9][0-9]{out.suffix}")) if split else []
     if not split and out.exists():
         existing = [out]

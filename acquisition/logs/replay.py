@@ -10,6 +10,11 @@ attachment's source stamp is the recorded ``publish_time``.
 Only keys matching ``keys`` are replayed (a topic that is no valid Zenoh key, as other tools may
 write, is skipped). Moves (``axisflow_msgs/msg/Move``, the commands sent to a
 drive) are never replayed: a recording must not command a live axis. They are counted as skipped.
+
+The recording is read through the log reader (:func:`.reader.iter_recording`): a file cut off by a
+crash up to its last complete chunk; a chunk that cannot be read is skipped, named in the report with
+the messages it held, and the replay goes on with the next one. ``progress`` hears how far it is
+about once every :data:`PROGRESS_INTERVAL_S`.
 """
 
 from __future__ import annotations
@@ -17,6 +22,7 @@ from __future__ import annotations
 import itertools
 import threading
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -27,7 +33,11 @@ from ..bus.session import check_key_expression
 from ..errors import AcquisitionError, RecordingError
 from ..wire.keys import key_for_topic
 from ..wire.messages import MOVE_TYPE
-from .recording import iter_recording
+from .reader import McapFile, SkippedChunk, iter_recording
+from .reader.messages import skipped_summary, why_nothing
+
+PROGRESS_INTERVAL_S = 2.0
+"""wall time between two calls of ``progress`` [s]"""
 
 
 @dataclass(frozen=True)
@@ -40,6 +50,8 @@ class ReplayReport:
     """recorded moves (commands to a drive) that were not replayed"""
     skipped_keys: int = 0
     """messages on keys that do not match the replay's key expression"""
+    skipped_chunks: tuple[SkippedChunk, ...] = ()
+    """chunks of the recording that could not be read (their messages were not replayed)"""
 
     def format(self) -> str:
         text = (
@@ -50,7 +62,36 @@ class ReplayReport:
             text += f"; skipped {self.skipped_moves} moves (commands to a drive are never replayed)"
         if self.skipped_keys:
             text += f"; skipped {self.skipped_keys} messages on keys outside --keys (or no Zenoh keys)"
+        if self.skipped_chunks:
+            text += "; " + skipped_summary(self.skipped_chunks, lost="not replayed")
         return text
+
+
+@dataclass(frozen=True)
+class ReplayProgress:
+    """How far a replay is."""
+
+    messages: int
+    """messages published so far"""
+    replayed_s: float
+    """recorded time replayed so far [s]"""
+    recorded_span_s: float | None
+    """the recording's span [s], from its summary (None: it has none)"""
+    skipped_chunks: int
+
+    def format(self) -> str:
+        total = f" of {self.recorded_span_s:.1f}" if self.recorded_span_s is not None else ""
+        skipped = f", {self.skipped_chunks} unreadable chunk(s) skipped" if self.skipped_chunks else ""
+        return f"replayed {self.messages} messages, {self.replayed_s:.1f}{total} s of the recording{skipped}"
+
+
+def recorded_span_s(path: str | Path) -> float | None:
+    """The span of a recording's messages [s], from its summary's statistics (None: it has none)."""
+    with McapFile.open(path) as file:
+        stats = file.summary.statistics if file.summary is not None else None
+    if stats is None or not stats.message_count:
+        return None
+    return (stats.message_end_time - stats.message_start_time) * 1e-9
 
 
 def replay(
@@ -60,20 +101,23 @@ def replay(
     stop: threading.Event | None = None,
     wait_subscribers_s: float = 0.0,
     keys: str = "**",
+    progress: Callable[[ReplayProgress], None] | None = None,
 ) -> ReplayReport:
-    """Publish the messages of ``path`` (complete or truncated) back over Zenoh; a file with no
-    complete message is a :class:`RecordingError` (nothing to replay is not a replay)."""
+    """Publish the messages of ``path`` (complete, truncated, or with chunks that cannot be read)
+    back over Zenoh; a file with no readable message is a :class:`RecordingError` (nothing to replay
+    is not a replay)."""
     if not speed >= 0.0:
         raise AcquisitionError(f"replay speed = {speed} must be >= 0 (0 = as fast as possible)")
     if not wait_subscribers_s >= 0.0:
         raise AcquisitionError(f"replay wait for subscribers = {wait_subscribers_s} s must be >= 0 s")
     wanted = check_key_expression(keys)
-    records = iter_recording(path)
+    skipped: list[SkippedChunk] = []
+    records = iter_recording(path, on_skip=skipped.append)
     first_record = next(records, None)
     if first_record is None:
-        raise RecordingError(
-            f"{path} holds no complete message to replay (its first chunk was never written)"
-        )
+        raise RecordingError(f"{path} holds no complete message to replay ({why_nothing(skipped)})")
+    span_s = recorded_span_s(path) if progress is not None else None
+    next_progress = time.monotonic()
     stop = stop or threading.Event()
     traffic = Traffic.BULK if speed == 0 else Traffic.TELEMETRY
     publishers: dict[str, SequencedPublisher] = {}
@@ -116,6 +160,9 @@ def replay(
             pub.put(m.data, m.publish_time)
             last_t = max(last_t, t)
             n += 1
+            if progress is not None and time.monotonic() >= next_progress:
+                next_progress = time.monotonic() + PROGRESS_INTERVAL_S
+                progress(ReplayProgress(n, (last_t - first_t) * 1e-9, span_s, len(skipped)))
     finally:
         for pub in publishers.values():
             pub.undeclare()
@@ -126,4 +173,5 @@ def replay(
         (last_t - first_t) * 1e-9,
         skipped_moves,
         skipped_keys,
+        tuple(skipped),
     )

@@ -9,7 +9,7 @@ Why a codec of our own: mcap-ros2-support and rosbags decode at about the speed 
 messages/s per core), so they buy no speed; this module is small, has no dependency, writes exactly
 the bytes the recorder stores and the bridge publishes, and is tested byte for byte against
 mcap-ros2-support's independent codec (tests/acquisition/test_messages.py), which is therefore only a
-test dependency. Fixed-layout payloads read in bulk go through :mod:`.log_reader`'s vectorised
+test dependency. Fixed-layout payloads read in bulk go through :mod:`..logs.reader.columns`' vectorised
 decoder instead.
 """
 

@@ -1,8 +1,12 @@
 """The ``axisflow`` command: one program, a subcommand per task.
 
 Each subcommand lives in its own module with ``register(subparsers)``, which adds its parser and sets
-``func`` to a ``run(args) -> int``. User errors (:class:`axisflow.model.AxisflowError`) are printed
-as one line on stderr with exit code 2; nothing else is caught.
+``func`` to a ``run(args) -> int``. User errors (:class:`axisflow.model.AxisflowError`) and errors of
+the file system about a path the user named (an ``OSError`` with a file name: a name too long, no
+permission, a full disk) are printed as one line on stderr with exit code 2; warnings
+(:class:`axisflow.model.AxisflowWarning`, e.g. a damaged chunk of a log that was skipped) as one line
+each. SIGTERM and SIGHUP unwind the command like Ctrl-C (:mod:`.interrupts`), so that no temporary
+file stays behind. Nothing else is caught.
 """
 
 from __future__ import annotations
@@ -12,11 +16,13 @@ import importlib
 import logging
 import os
 import sys
-from collections.abc import Sequence
-from typing import NoReturn
+import warnings
+from collections.abc import Callable, Sequence
+from typing import NoReturn, TextIO
 
 from .. import __version__
-from ..model import AxisflowError
+from ..model import AxisflowError, AxisflowWarning
+from .interrupts import Terminated, signals_unwind
 
 # command modules, in the order --help lists them
 COMMAND_MODULES: tuple[str, ...] = (
@@ -81,11 +87,47 @@ def _main(argv: Sequence[str] | None) -> int:
         level=logging.WARNING - 10 * min(args.verbose, 2),
         format="%(asctime)s %(levelname)s %(name)s: %(message)s",
     )
-    try:
-        return int(args.func(args) or 0)
-    except AxisflowError as exc:
-        print(f"axisflow {args.command}: error: {exc}", file=sys.stderr)
-        return EXIT_USER_ERROR
-    except KeyboardInterrupt:
-        print(f"axisflow {args.command}: interrupted", file=sys.stderr)
-        return 130
+    with signals_unwind(), warnings.catch_warnings():
+        warnings.simplefilter("default", AxisflowWarning)
+        warnings.showwarning = _warning_printer(args.command, warnings.showwarning)
+        try:
+            return int(args.func(args) or 0)
+        except AxisflowError as exc:
+            print(f"axisflow {args.command}: error: {exc}", file=sys.stderr)
+            return EXIT_USER_ERROR
+        except OSError as exc:
+            if exc.filename is None:
+                raise
+            print(f"axisflow {args.command}: error: {_os_error_line(exc)}", file=sys.stderr)
+            return EXIT_USER_ERROR
+        except Terminated as exc:
+            print(f"axisflow {args.command}: stopped by {exc}", file=sys.stderr)
+            return exc.exit_code
+        except KeyboardInterrupt:
+            print(f"axisflow {args.command}: interrupted", file=sys.stderr)
+            return 130
+
+
+def _os_error_line(exc: OSError) -> str:
+    """An error of the file system about a path as one line: the path(s) and the system's reason."""
+    path = f"{exc.filename}" + (f" → {exc.filename2}" if exc.filename2 is not None else "")
+    return f"{path}: {exc.strerror or exc}"
+
+
+def _warning_printer(command: str, fallback: Callable[..., None]) -> Callable[..., None]:
+    """A ``warnings.showwarning`` that prints axisflow's warnings as one line each (others as usual)."""
+
+    def show(
+        message: Warning | str,
+        category: type[Warning],
+        filename: str,
+        lineno: int,
+        file: TextIO | None = None,
+        line: str | None = None,
+    ) -> None:
+        if issubclass(category, AxisflowWarning):
+            print(f"axisflow {command}: warning: {message}", file=sys.stderr, flush=True)
+        else:
+            fallback(message, category, filename, lineno, file, line)
+
+    return show

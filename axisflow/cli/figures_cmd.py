@@ -6,7 +6,7 @@ import argparse
 import json
 import sys
 
-from ..acquisition.logs.recording import check_mcap
+from ..acquisition.logs.reader import check_mcap
 from ..arguments import add_params_option, non_negative_int, params_from_args, waypoint_count
 from ..paper import FIG5_WAYPOINTS
 from ..waypoints import random_waypoints
@@ -24,9 +24,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         "and solve time against its iteration cap, against the exact optimum), fig5a.png and fig5b.png "
         "(position, velocity and torque through random way points per law, minimum time and minimum "
         "time-energy: the plans sampled at 1 kHz with the model, or a recording's measured samples with "
-        "--recording). Each file is written atomically, after all are drawn.",
+        "--recording). The files are written together and atomically, after all are drawn; existing ones "
+        "are replaced only with --overwrite.",
     )
     p.add_argument("--out", required=True, metavar="DIR", help="output directory (created if missing)")
+    p.add_argument("--overwrite", action="store_true", help="replace the figures of an earlier run in DIR")
     p.add_argument(
         "--excitation",
         default=None,
@@ -53,14 +55,13 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..model.files import check_output_dir
-    from ..viz.figures import render_figures, save_figures
+    from ..model.files import check_output_files
+    from ..viz.figures import FIGURE_FILES, render_figures, save_figures
 
     params = params_from_args(args)
-    out = check_output_dir(args.out)  # a bad --out fails before the work, not after it
-    for log in (args.excitation, args.recording):
-        if log is not None:
-            check_mcap(log)
+    logs = [check_mcap(log) for log in (args.excitation, args.recording) if log is not None]
+    # a bad --out fails before the work, not after it
+    out = check_output_files(args.out, FIGURE_FILES, inputs=logs, overwrite=args.overwrite)
     waypoints = random_waypoints(args.waypoints, args.seed, params)
 
     def progress(text: str) -> None:

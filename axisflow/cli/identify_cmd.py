@@ -5,14 +5,15 @@ from __future__ import annotations
 import argparse
 import json
 
+from ..acquisition.logs.reader import check_mcap
 from ..arguments import add_params_option, finite_float, params_from_args
 from ..identification.fit import PARAMETERS
 from ..identification.preparation import PreparationSettings
 from ..identification.refit import DEFAULT_JOINT, DEFAULT_TOPIC, IdentifySettings
 from ..identification.report import report_markdown
 from ..identification.signals import TimeWindow
-from ..identify import identify_to
-from ..model.files import check_output_dir
+from ..identify import REFIT_FILES, identify_to
+from ..model.files import check_distinct_inputs, check_output_files
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -22,12 +23,15 @@ def register(sub: argparse._SubParsersAction) -> None:
         description="Read sensor_msgs/msg/JointState samples of one joint from MCAP logs (ours or any "
         "ROS 2 recording), estimate velocity and acceleration by zero-phase filtering, fit M_eq and "
         "a1…a4 of eq. (1) by CasADi's SQP so that model effort matches the measured one, and write "
-        "DIR/params.toml (a complete parameter file), DIR/report.json, DIR/report.md and DIR/fit.png.",
+        "DIR/params.toml (a complete parameter file), DIR/report.json, DIR/report.md and DIR/fit.png "
+        "(together, atomically; existing ones only with --overwrite). A chunk of a log that cannot be "
+        "read is skipped and named; its samples count as missing, never fitted across.",
     )
     p.add_argument(
         "logs", nargs="+", metavar="LOG.mcap", help="recordings to fit (e.g. of `axisflow excite`)"
     )
     p.add_argument("--out", required=True, metavar="DIR", help="output directory (created if missing)")
+    p.add_argument("--overwrite", action="store_true", help="replace the files of an earlier refit in DIR")
     p.add_argument("--topic", default=DEFAULT_TOPIC, help=f"JointState topic (default {DEFAULT_TOPIC})")
     p.add_argument(
         "--joint",
@@ -102,7 +106,12 @@ def run(args: argparse.Namespace) -> int:
         holdout=args.holdout,
         window=TimeWindow(args.start, args.end),
     )
-    out = check_output_dir(args.out)  # a bad --out fails before the work, not after it
+    logs = [*args.logs, *args.validate]
+    for log in logs:
+        check_mcap(log)
+    check_distinct_inputs(logs, "log")  # the same samples twice would shrink the uncertainty
+    # a bad --out fails before the work, not after it
+    out = check_output_files(args.out, REFIT_FILES, inputs=logs, overwrite=args.overwrite)
     _ident, report = identify_to(out, args.logs, nominal, settings, validate=args.validate)
     if args.json:
         print(json.dumps(report, indent=1))

@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 import argparse
+import sys
 
 from ..acquisition.bus.session import open_session
-from ..acquisition.logs.replay import replay
+from ..acquisition.logs.replay import ReplayProgress, replay
 from ..acquisition.shutdown import stop_on_signals
 from ..arguments import finite_float
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
@@ -17,7 +18,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="publish an MCAP recording back over Zenoh",
         description="Publish the messages of FILE on key = topic without the leading '/', at the "
         "recorded pace (the senders' publish times) times --speed. Moves (commands to a drive) are "
-        "never replayed.",
+        "never replayed. A chunk of FILE that cannot be read is skipped and named; the replay goes on. "
+        "Progress goes to stderr.",
     )
     p.add_argument("file", metavar="FILE.mcap", help="recording (complete or truncated)")
     p.add_argument(
@@ -54,6 +56,12 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     with stop_on_signals() as stop, open_session(zenoh_options_from_args(args)) as session:
-        report = replay(session, args.file, args.speed, stop, args.wait_subscribers, args.keys)
+        report = replay(
+            session, args.file, args.speed, stop, args.wait_subscribers, args.keys, _show_progress
+        )
     print(report.format())
     return 0
+
+
+def _show_progress(progress: ReplayProgress) -> None:
+    print(f"  {progress.format()}", file=sys.stderr, flush=True)

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import argparse
 
+from ..acquisition.logs.reader import check_mcap
 from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
-from ..model.files import check_output_dir
+from ..model.files import check_output_files
 from ..table2 import table_from_recording
 from ..table2_record import write_table2
 
@@ -17,10 +18,13 @@ def register(sub: argparse._SubParsersAction) -> None:
         description="Read a recording of `axisflow planner` runs (plan records, move status, measured "
         "samples, setpoints) and print the paper's Table 2 per run: T, E_th, E_exp = ∫τ_m·ω_m dt of "
         "the measured torque and motor speed under the plans' energy accounting, E%, t_opt and the idle "
-        "ticks between moves. Writes DIR/table2.md and DIR/table2.json.",
+        "ticks between moves. Writes DIR/table2.md and DIR/table2.json (existing ones only with "
+        "--overwrite). A chunk of the recording that cannot be read is skipped and named; a move that "
+        "lost samples with it has no measured energy.",
     )
     p.add_argument("recording", metavar="LOG.mcap", help="recording of the planner's runs")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory (created if missing)")
+    p.add_argument("--overwrite", action="store_true", help="replace an earlier table in DIR")
     p.add_argument("--label", default=None, help="only the runs with this plan label (default: all)")
     p.add_argument("--axis", default=DEFAULT_AXIS, help=f"axis name (default: {DEFAULT_AXIS})")
     p.add_argument("--prefix", default=DEFAULT_PREFIX, help=f"key prefix (default: {DEFAULT_PREFIX})")
@@ -29,7 +33,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    out = check_output_dir(args.out)
+    recording = check_mcap(args.recording)
+    out = check_output_files(
+        args.out, ("table2.md", "table2.json"), inputs=[recording], overwrite=args.overwrite
+    )
     table = table_from_recording(args.recording, AxisKeys(args.axis, args.prefix), args.label)
     json_path, md_path = write_table2(table, out)
     print((json_path if args.json else md_path).read_text(), end="")

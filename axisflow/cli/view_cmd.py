@@ -7,10 +7,12 @@ import json
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from ..acquisition.logs.reader import check_mcap
 from ..acquisition.shutdown import stop_on_signals
 from ..acquisition.wire.keys import all_keys
 from ..arguments import add_params_option, finite_float, params_from_args, tcp_port_or_any
 from ..model import AxisParams
+from ..model.files import check_distinct_inputs
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 if TYPE_CHECKING:
@@ -30,7 +32,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         "the feed-forward with ±tau_max, tracking error, mechanical power and energy per move, and the "
         "bridge's move statuses; one column per axis. -o saves a .rrd (atomically; no viewer needed), "
         "--spawn opens the rerun viewer, --serve serves a web viewer on 127.0.0.1. Without any of them a "
-        "log view is saved beside the first log as LOG.rrd.",
+        "log view is saved beside the first log as LOG.rrd. An existing .rrd is replaced only with "
+        "--overwrite, an input never. A chunk of a log that cannot be read is skipped and named.",
     )
     p.add_argument("logs", nargs="*", metavar="LOG.mcap", help="recordings to view (not with --live)")
     p.add_argument("--live", action="store_true", help="view the Zenoh keys live instead of logs")
@@ -41,6 +44,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--duration", type=finite_float, default=None, metavar="S", help="with --live: stop after S seconds"
     )
     p.add_argument("-o", "--output", default=None, metavar="FILE.rrd", help="save the view to FILE.rrd")
+    p.add_argument("--overwrite", action="store_true", help="replace FILE.rrd if it exists")
     viewer = p.add_mutually_exclusive_group()
     viewer.add_argument("--spawn", action="store_true", help="open the rerun viewer (stays open)")
     viewer.add_argument(
@@ -73,17 +77,21 @@ def run(args: argparse.Namespace) -> int:
         raise VizError("--keys and --duration apply to --live only")
     if not args.logs:
         raise VizError("nothing to view: give LOG.mcap files, or --live")
+    logs = tuple(check_mcap(log) for log in args.logs)
+    check_distinct_inputs(logs, "log")
     rrd = args.output
     if rrd is None and not (args.spawn or args.serve):
-        rrd = Path(args.logs[0]).with_suffix(".rrd")
+        rrd = logs[0].with_suffix(".rrd")
     output = ViewOutput(
         rrd=Path(rrd) if rrd else None,
         spawn=args.spawn,
         serve=args.serve,
         web_port=args.web_port,
-        expected_bytes=view_size_estimate(args.logs),
+        expected_bytes=view_size_estimate(logs),
+        inputs=logs,
+        overwrite=args.overwrite,
     )
-    session = SessionLogs.open(args.logs)
+    session = SessionLogs.open(logs)
     with RerunOutput(output, session.blueprint()) as out:
         summary = log_session(out.rec, session, params)  # Ctrl-C here: nothing is written
         data = {
@@ -114,6 +122,7 @@ def _run_live(args: argparse.Namespace, params: AxisParams) -> int:
         spawn=args.spawn,
         serve=args.serve,
         web_port=args.web_port,
+        overwrite=args.overwrite,
     )
     with (
         stop_on_signals() as stop,

@@ -6,6 +6,9 @@ would have written absent or unchanged — errors found by argparse (a value tha
 unknown choice) too: the command line turns them into one line (axisflow/cli/__init__.py). The same
 list, with the messages, is in docs/trust.md.
 
+Beyond the line, every case checks that the input folder is byte for byte what it was and that the
+working folder holds exactly what it held: nothing written, no stray temporary (``.part``) file.
+
 The table runs in-process (``axisflow.cli.main``); the three slips our issue found, and piping into
 ``head``, run as real processes.
 """
@@ -14,6 +17,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import signal
 import subprocess
 import sys
@@ -602,7 +606,7 @@ CASES = [
         "still.mcap",
         "-o",
         "still.mcap",
-        says=("must differ from the source",),
+        says=("output still.mcap is the input still.mcap", "must never write over an input"),
         untouched=("still.mcap",),
     ),
     # security, the router, the demo
@@ -689,6 +693,288 @@ CASES = [
 ]
 
 
+LONG = "x" * 300
+"""a file name longer than any file system takes (255 bytes): ENAMETOOLONG wherever it is used"""
+
+FILE_CASES = [
+    # files: names too long, directories, links, one file named twice, earlier outputs, damaged chunks
+    case(
+        "record: a name too long",
+        "record",
+        "-o",
+        f"{LONG}.mcap",
+        "--duration",
+        "1",
+        says=(f"{LONG}.mcap cannot be written", "File name too long"),
+    ),
+    case(
+        "view: a log name too long",
+        "view",
+        f"{LONG}.mcap",
+        says=(f"recording {LONG}.mcap cannot be read", "File name too long"),
+    ),
+    case(
+        "view: an output name too long",
+        "view",
+        "still.mcap",
+        "-o",
+        f"{LONG}.rrd",
+        says=(f"output {LONG}.rrd cannot be written", "File name too long"),
+    ),
+    case(
+        "view: a directory as the log",
+        "view",
+        "full",
+        says=("recording full is a directory, not a file",),
+        untouched=("full",),
+    ),
+    case(
+        "view: the log as its output",
+        "view",
+        "still.mcap",
+        "-o",
+        "still.mcap",
+        says=("output still.mcap must end in .rrd",),
+    ),
+    case(
+        "view: the output a link to the log",
+        "view",
+        "still.mcap",
+        "-o",
+        "still-link.rrd",
+        "--overwrite",
+        says=("output still-link.rrd is the input still.mcap under another name", "never write over"),
+    ),
+    case(
+        "view: the same log twice",
+        "view",
+        "still.mcap",
+        "still-hard.mcap",
+        says=("log still.mcap and log still-hard.mcap are the same file",),
+    ),
+    case(
+        "view: an earlier view without --overwrite",
+        "view",
+        "viewed.mcap",
+        says=("output viewed.rrd already exists", "--overwrite"),
+        untouched=("viewed.rrd",),
+    ),
+    case(
+        "identify: a log name too long",
+        "identify",
+        f"{LONG}.mcap",
+        "--out",
+        "ident",
+        says=(f"recording {LONG}.mcap cannot be read", "File name too long"),
+        untouched=("ident",),
+    ),
+    case(
+        "identify: an output folder name too long",
+        "identify",
+        "still.mcap",
+        "--out",
+        LONG,
+        says=(f"output directory {LONG} cannot be created", "File name too long"),
+    ),
+    case(
+        "identify: a directory as the log",
+        "identify",
+        "full",
+        "--out",
+        "ident",
+        says=("recording full is a directory, not a file",),
+        untouched=("ident", "full"),
+    ),
+    case(
+        "identify: the same log twice",
+        "identify",
+        "still.mcap",
+        "still.mcap",
+        "--out",
+        "ident",
+        says=("log still.mcap and log still.mcap are the same file",),
+        untouched=("ident",),
+    ),
+    case(
+        "identify: the same log twice, by a hard link",
+        "identify",
+        "still.mcap",
+        "still-hard.mcap",
+        "--out",
+        "ident",
+        says=("log still.mcap and log still-hard.mcap are the same file",),
+        untouched=("ident",),
+    ),
+    case(
+        "identify: the same log to fit and to validate, by a symbolic link",
+        "identify",
+        "still.mcap",
+        "--validate",
+        "still-link.mcap",
+        "--out",
+        "ident",
+        says=("log still.mcap and log still-link.mcap are the same file",),
+        untouched=("ident",),
+    ),
+    case(
+        "identify: an earlier refit without --overwrite",
+        "identify",
+        "still.mcap",
+        "--out",
+        "refit",
+        says=("refit/params.toml already exists", "--overwrite"),
+        untouched=("refit",),
+    ),
+    case(
+        "identify: every chunk damaged",
+        "identify",
+        "all-damaged.mcap",
+        "--out",
+        "ident",
+        says=("all-damaged.mcap", "holds no message", "could not be read", "chunk 1 at byte 43"),
+        untouched=("ident",),
+    ),
+    case(
+        "table2: a log name too long",
+        "table2",
+        f"{LONG}.mcap",
+        "--out",
+        "t2",
+        says=("cannot be read", "File name too long"),
+        untouched=("t2",),
+    ),
+    case(
+        "table2: a directory as the recording",
+        "table2",
+        "full",
+        "--out",
+        "t2",
+        says=("recording full is a directory, not a file",),
+        untouched=("t2", "full"),
+    ),
+    case(
+        "table2: an earlier table without --overwrite",
+        "table2",
+        "still.mcap",
+        "--out",
+        "tables",
+        says=("tables/table2.md already exists", "--overwrite"),
+        untouched=("tables",),
+    ),
+    case(
+        "recover: a name too long",
+        "recover",
+        f"{LONG}.mcap",
+        says=("cannot be read", "File name too long"),
+    ),
+    case(
+        "recover: an output name too long",
+        "recover",
+        "still.mcap",
+        "-o",
+        f"{LONG}.mcap",
+        says=(f"output {LONG}.mcap cannot be written", "File name too long"),
+    ),
+    case(
+        "recover: the output a symbolic link to the source, --overwrite",
+        "recover",
+        "still.mcap",
+        "-o",
+        "still-link.mcap",
+        "--overwrite",
+        says=("output still-link.mcap is the input still.mcap under another name", "never write over"),
+    ),
+    case(
+        "recover: the output a hard link to the source, --overwrite",
+        "recover",
+        "still.mcap",
+        "-o",
+        "still-hard.mcap",
+        "--overwrite",
+        says=("output still-hard.mcap is the input still.mcap under another name", "never write over"),
+    ),
+    case(
+        "recover: every chunk damaged",
+        "recover",
+        "all-damaged.mcap",
+        says=("no complete message to recover", "chunk(s) could not be read", "chunk 1 at byte 43"),
+        untouched=("all-damaged.recovered.mcap",),
+    ),
+    case(
+        "replay: every chunk damaged",
+        "replay",
+        "all-damaged.mcap",
+        "--no-wait",
+        *LOOPBACK,
+        says=("no complete message to replay", "chunk(s) could not be read"),
+    ),
+    case(
+        "replay: a directory",
+        "replay",
+        "full",
+        "--no-wait",
+        *LOOPBACK,
+        says=("recording full is a directory, not a file",),
+    ),
+    case(
+        "figures: an output folder name too long",
+        "figures",
+        "--out",
+        LONG,
+        says=(f"output directory {LONG} cannot be created", "File name too long"),
+    ),
+    case(
+        "figures: earlier figures without --overwrite",
+        "figures",
+        "--out",
+        "figs",
+        says=("figs/fig4a.png already exists", "--overwrite"),
+        untouched=("figs",),
+    ),
+    case(
+        "figures: a directory as the recording",
+        "figures",
+        "--out",
+        "fg",
+        "--recording",
+        "full",
+        says=("recording full is a directory, not a file",),
+        untouched=("fg",),
+    ),
+    case(
+        "experiment: an output folder name too long",
+        "experiment",
+        "--offline",
+        "--out",
+        LONG,
+        says=(f"output directory {LONG} cannot be created", "File name too long"),
+    ),
+    case(
+        "pareto: an output folder name too long",
+        "pareto",
+        "--out",
+        LONG,
+        says=(f"output directory {LONG} cannot be created", "File name too long"),
+    ),
+    case(
+        "bridge: a Zenoh config name too long",
+        "bridge",
+        "--sim",
+        "--zenoh-config",
+        f"{LONG}.json5",
+        says=(f"{LONG}.json5", "File name too long"),
+    ),
+    case(
+        "security: a folder name too long",
+        "security",
+        "init",
+        LONG,
+        says=(LONG, "File name too long"),
+    ),
+]
+CASES += FILE_CASES
+
+
 def _recording(path: Path, *, schema: str = JOINT_STATE_TYPE, nan: bool = False, finish: bool = True) -> None:
     """A 2 s recording of /axisflow/a0/state: the axis at rest (or NaN torques in every other sample)."""
     writer = Ros2McapWriter(path)
@@ -709,7 +995,7 @@ def _params_file(path: Path, **changes: object) -> None:
 
 
 @pytest.fixture(scope="module")
-def inputs(tmp_path_factory) -> Path:
+def inputs(tmp_path_factory, damage) -> Path:
     """The bad (and a few good) input files every case may name, in one folder."""
     d = tmp_path_factory.mktemp("inputs")
     _params_file(d / "unknown.toml", foo=1)
@@ -737,6 +1023,16 @@ def inputs(tmp_path_factory) -> Path:
     _recording(d / "nan-samples.mcap", nan=True)
     (d / "truncated.mcap").write_bytes((d / "still.mcap").read_bytes()[:40])  # magic and header only
     init_security(SecurityPlan(d / "secure", days=2))
+    (d / "still-link.mcap").symlink_to("still.mcap")
+    (d / "still-link.rrd").symlink_to("still.mcap")
+    os.link(d / "still.mcap", d / "still-hard.mcap")
+    _recording(d / "viewed.mcap")
+    (d / "viewed.rrd").write_text("an earlier view\n")
+    for folder, name in (("refit", "params.toml"), ("tables", "table2.md"), ("figs", "fig4a.png")):
+        (d / folder).mkdir()
+        (d / folder / name).write_text("an earlier result\n")
+    for k in range(len(damage.chunks(d / "still.mcap"))):  # every chunk's CRC wrong
+        damage.damage(d / ("still.mcap" if k == 0 else "all-damaged.mcap"), d / "all-damaged.mcap", k, "crc")
     return d
 
 
@@ -770,6 +1066,7 @@ def test_a_bad_input_is_one_line_exit_2_and_nothing_written(bad, inputs, tmp_pat
             (work / p.name).symlink_to(p)
     monkeypatch.chdir(work)
     before = _snapshot(work, bad.untouched)
+    inputs_before, work_before = _tree(inputs), _tree(work)
     t0 = time.monotonic()
     try:
         code = main(list(bad.args))
@@ -783,7 +1080,26 @@ def test_a_bad_input_is_one_line_exit_2_and_nothing_written(bad, inputs, tmp_pat
     for fragment in bad.says:
         assert fragment in line, line
     assert _snapshot(work, bad.untouched) == before
+    assert _tree(inputs) == inputs_before  # every file that was there is byte-identical, nothing new
+    assert _tree(work) == work_before  # nothing written, no stray temporary (.part) file
     assert elapsed < 10.0  # refused at once, not after the work
+
+
+def _tree(folder: Path) -> dict[str, bytes | str]:
+    """Every entry under ``folder``, links not followed: a file's bytes, a link's target, "/" for a
+    folder."""
+    out: dict[str, bytes | str] = {}
+    for root, folders, files in os.walk(folder):
+        for name in folders + files:
+            p = Path(root) / name
+            rel = str(p.relative_to(folder))
+            if p.is_symlink():
+                out[rel] = f"-> {os.readlink(p)}"
+            elif p.is_dir():
+                out[rel] = "/"
+            else:
+                out[rel] = p.read_bytes()
+    return out
 
 
 def _copy(src: Path, dst: Path) -> None:
@@ -795,10 +1111,10 @@ def _copy(src: Path, dst: Path) -> None:
         shutil.copy2(src, dst)
 
 
-def test_the_catalogue_covers_every_command_but_the_views():
+def test_the_catalogue_covers_every_command():
     from axisflow.cli import COMMAND_MODULES
 
-    commands = {m.removesuffix("_cmd") for m in COMMAND_MODULES} - {"view", "figures"}
+    commands = {m.removesuffix("_cmd") for m in COMMAND_MODULES}
     assert commands <= {c.args[0] for c in CASES}
     assert len(CASES) >= 30
 

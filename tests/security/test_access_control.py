@@ -262,7 +262,7 @@ def test_the_commands_take_the_files_router_bridge_record(cli, tmp_path):
     import json
     import signal
 
-    from axisflow.acquisition.logs.recording import iter_recording
+    from axisflow.acquisition import iter_recording
 
     from axisflow.security import SecurityPlan, init_security
 

@@ -124,3 +124,33 @@ def test_a_recording_without_plans_is_a_clear_error(tmp_path):
     path = _write(tmp_path / "t.mcap")
     with pytest.raises(AxisflowError, match="holds no plan records on /axisflow/a0/plan labelled 'other'"):
         table_from_recording(path, label="other")
+
+
+def test_a_damaged_chunk_is_skipped_and_its_moves_left_unmeasured(tmp_path, damage, cli):
+    import warnings
+
+    from axisflow.acquisition import DamagedLogWarning
+
+    whole, damaged = _write(tmp_path / "whole.mcap"), tmp_path / "damaged.mcap"
+    damage.damage(whole, damaged, len(damage.chunks(whole)) // 2, "flip")
+    reference = table_from_recording(whole).rows[0].moves
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        (row,) = table_from_recording(damaged).rows
+    assert {str(w.message).rsplit(" messages of ", 1)[1].split()[0] for w in caught} == {
+        "/axisflow/a0/state",
+        "/axisflow/a0/setpoint",
+    }
+    assert all(issubclass(w.category, DamagedLogWarning) for w in caught)
+    hit = [m.samples_missing > 0 for m in row.moves]
+    assert any(hit) and not all(hit)  # the hole lies in some moves, not all
+    for move, before in zip(row.moves, reference, strict=True):
+        if move.samples_missing:
+            assert math.isnan(move.energy_measured_j)  # never integrated across the hole
+        else:
+            assert move.energy_measured_j == before.energy_measured_j
+    done = cli.run("table2", str(damaged), "--out", str(tmp_path / "t2"))
+    assert done.returncode == 0, done.stderr
+    assert [line.split(": warning: ")[0] for line in done.stderr.strip().splitlines()] == [
+        "axisflow table2"
+    ] * 2

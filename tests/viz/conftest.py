@@ -11,11 +11,11 @@ import pyarrow as pa
 import pytest
 from axisflow.acquisition import MoveState, MoveStatus, PlanRecord
 from axisflow.acquisition.logs.mcap_writer import Ros2McapWriter
+from axisflow.acquisition.logs.synthetic_log import SyntheticLogSpec, synthetic_block
 from axisflow.acquisition.wire.keys import AxisKeys, topic_for_key
 from axisflow.acquisition.wire.messages import AXIS_JOINTS, JOINT_STATE_TYPE, JointState
 from axisflow.acquisition.wire.move_status import MOVE_STATUS_TYPE
 from axisflow.acquisition.wire.plan_record import PLAN_TYPE
-from axisflow.benchmarks.synthetic_log import SyntheticLogSpec, synthetic_block
 from axisflow.model import EXECUTION_PERIOD_NS, default_params
 from rerun.chunk import RrdReader
 

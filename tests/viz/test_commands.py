@@ -178,3 +178,29 @@ def test_a_view_whose_writer_fails_is_one_line_exit_2_and_leaves_no_file(test_lo
     assert "rerun could not finish the view: File-writer thread shut down prematurely" in line
     assert "v.rrd was not written" in line
     assert list(out.iterdir()) == []
+
+
+def test_a_view_of_a_log_with_a_damaged_chunk_says_what_it_skipped_and_goes_on(
+    cli, damage, tmp_path, rrd_reader
+):
+    from axisflow.acquisition import read_joint_states
+    from axisflow.acquisition.logs.synthetic_log import SyntheticLogSpec, write_synthetic_log
+
+    whole, log = tmp_path / "whole.mcap", tmp_path / "damaged.mcap"
+    write_synthetic_log(whole, SyntheticLogSpec(duration_s=3.0, chunk_size=64 * 1024))
+    chunks = damage.chunks(whole)
+    offset = damage.damage(whole, log, len(chunks) // 2, "flip")
+    done = cli.run("view", str(log), "-o", str(tmp_path / "v.rrd"))
+    assert done.returncode == 0, done.stderr
+    lines = done.stderr.strip().splitlines()
+    chunk = f"{log}: chunk {len(chunks) // 2 + 1} at byte {offset} cannot be read"
+    assert len(lines) == 2 and all(line.startswith(f"axisflow view: warning: {chunk}") for line in lines)
+    assert {line.rsplit(" messages of ", 1)[1].split()[0] for line in lines} == {
+        "/axisflow/a0/state",
+        "/axisflow/a0/setpoint",
+    }
+    kept = (
+        len(read_joint_states(whole, "/axisflow/a0/state"))
+        - read_joint_states(log, "/axisflow/a0/state", on_skip=lambda _s: None).holes[0].messages
+    )
+    assert len(rrd_reader(tmp_path / "v.rrd")["/axes/a0/position/measured"].stamp_ns) == kept < 3000

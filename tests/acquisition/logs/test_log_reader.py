@@ -13,20 +13,16 @@ import numpy as np
 import pytest
 from axisflow.acquisition import JOINT_STATE_TYPE, SCHEMAS, JointState, RecordingError, WireError
 from axisflow.acquisition.logs.joint_state_layout import JointStateLayout
-from axisflow.acquisition.logs.log_reader import (
-    RECORD_PREFIX,
-    JointStateColumns,
-    list_topics,
-    read_joint_states,
-)
 from axisflow.acquisition.logs.mcap_writer import OFFERED_QOS_PROFILES, Ros2McapWriter
-from axisflow.acquisition.wire.messages import AXIS_JOINTS
-from axisflow.benchmarks.synthetic_log import (
+from axisflow.acquisition.logs.reader import JointStateColumns, list_topics, read_joint_states
+from axisflow.acquisition.logs.reader.framing import RECORD_PREFIX
+from axisflow.acquisition.logs.synthetic_log import (
     BLOCK_TICKS,
     SyntheticLogSpec,
     synthetic_block,
     write_synthetic_log,
 )
+from axisflow.acquisition.wire.messages import AXIS_JOINTS
 from axisflow.model import default_params
 from mcap.opcode import Opcode
 from mcap.reader import make_reader
@@ -637,8 +633,8 @@ def test_layout_refuses_what_it_cannot_lay_out():
 def test_read_messages_gives_a_topics_payloads_as_stored(tmp_path):
     """Raw payloads of a rare topic among many JointStates, equal to mcap's own reader's, in order."""
     from axisflow.acquisition import MOVE_STATUS_TYPE, AxisSample, MoveState, MoveStatus
-    from axisflow.acquisition.logs.log_reader import read_messages
     from axisflow.acquisition.logs.mcap_writer import Ros2McapWriter
+    from axisflow.acquisition.logs.reader import read_messages
     from mcap.reader import make_reader
 
     path = tmp_path / "mixed.mcap"

@@ -100,3 +100,25 @@ def test_a_topic_that_is_no_zenoh_key_is_skipped(tmp_path, port):
     with open_session(ZenohOptions.loopback(listen_port=port)) as player:
         report = replay(player, path, speed=0.0)
     assert (report.messages, report.skipped_keys) == (1, 1)
+
+
+def test_a_damaged_chunk_is_skipped_named_and_the_replay_goes_on(tmp_path, port, damage):
+    whole, damaged = tmp_path / "whole.mcap", tmp_path / "damaged.mcap"
+    writer = Ros2McapWriter(whole, chunk_size=8192)
+    state = writer.channel_for("/axisflow/a0/state", JOINT_STATE_TYPE)
+    for k in range(2000):
+        writer.add(
+            state, T0 + k * MS, T0 + k * MS, k + 1, AxisSample(T0 + k * MS, "a0", 0.1, 0, 0, 0, 0, 0).encode()
+        )
+    writer.finish()
+    offset = damage.damage(whole, damaged, 3, "crc")
+    heard = []
+    with open_session(ZenohOptions.loopback(listen_port=port)) as player:
+        report = replay(player, damaged, speed=0.0, progress=heard.append)
+    (skipped,) = report.skipped_chunks
+    assert (skipped.chunk.ordinal, skipped.chunk.offset) == (4, offset)
+    assert report.messages == 2000 - skipped.messages and skipped.messages > 50
+    assert f"skipped 1 chunk(s) that could not be read ({skipped.messages} messages not replayed)" in (
+        report.format()
+    )
+    assert heard and heard[0].messages == 1 and heard[0].recorded_span_s == pytest.approx(1.999)

@@ -22,7 +22,7 @@ sequence numbers count 1, 2, … per topic. Everything random comes from ``numpy
 ([seed, block])`` per block of 10 000 ticks, so a file is bit-for-bit reproducible from its spec, and
 a shorter log is a prefix of a longer one with the same seed.
 
-Payloads are encoded in bulk (:class:`axisflow.acquisition.logs.joint_state_layout.JointStateLayout`) and
+Payloads are encoded in bulk (:class:`.joint_state_layout.JointStateLayout`) and
 handed pre-encoded to a plain ``mcap.writer.Writer``; its per-message ``add_message`` is what costs
 the time (~200 k messages/s).
 """
@@ -37,13 +37,7 @@ from pathlib import Path
 import numpy as np
 from mcap.writer import Writer
 
-from ..acquisition.drives.sim_axis import EncoderConfig, TorqueSensorConfig
-from ..acquisition.errors import RecordingError
-from ..acquisition.logs.joint_state_layout import JointStateLayout
-from ..acquisition.logs.mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE, LIBRARY, OFFERED_QOS_PROFILES
-from ..acquisition.wire.keys import DEFAULT_AXIS, AxisKeys, topic_for_key
-from ..acquisition.wire.messages import AXIS_JOINTS, JOINT_STATE_TYPE, SCHEMAS, JointState
-from ..model import (
+from ...model import (
     EXECUTION_PERIOD_NS,
     AxisParams,
     cart_force,
@@ -54,6 +48,13 @@ from ..model import (
     motor_torque,
     move_ticks,
 )
+from ...model.files import atomic_path
+from ..drives.sim_axis import EncoderConfig, TorqueSensorConfig
+from ..errors import RecordingError
+from ..wire.keys import DEFAULT_AXIS, AxisKeys, topic_for_key
+from ..wire.messages import AXIS_JOINTS, JOINT_STATE_TYPE, SCHEMAS, JointState
+from .joint_state_layout import JointStateLayout
+from .mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE, LIBRARY, OFFERED_QOS_PROFILES
 
 DEFAULT_START_NS = 1_767_225_600_000_000_000
 """first stamp of a synthetic log: 2026-01-01T00:00:00Z [ns since the Unix epoch]"""
@@ -209,7 +210,8 @@ def synthetic_block(spec: SyntheticLogSpec, block: int) -> SyntheticBlock:
 
 
 def write_synthetic_log(path: str | Path, spec: SyntheticLogSpec | None = None) -> SyntheticLog:
-    """Write the log of ``spec`` (default: one hour of axis ``a0``, seed 0) to ``path`` (overwritten)."""
+    """Write the log of ``spec`` (default: one hour of axis ``a0``, seed 0) to ``path`` (replaced,
+    atomically)."""
     spec = spec or SyntheticLogSpec()
     out = Path(path)
     layout, template = JointStateLayout.for_message(
@@ -217,7 +219,7 @@ def write_synthetic_log(path: str | Path, spec: SyntheticLogSpec | None = None) 
     )
     size = layout.size
     started = time.perf_counter()
-    with open(out, "wb") as fh:
+    with atomic_path(out) as part, open(part, "wb") as fh:
         writer = Writer(fh, chunk_size=spec.chunk_size, compression=COMPRESSIONS[spec.compression])
         writer.start(profile="ros2", library=LIBRARY)
         schema_id = writer.register_schema(JOINT_STATE_TYPE, "ros2msg", SCHEMAS[JOINT_STATE_TYPE].encode())
