@@ -133,7 +133,7 @@ def test_a_damaged_chunk_is_skipped_and_its_moves_left_unmeasured(tmp_path, dama
 
     whole, damaged = _write(tmp_path / "whole.mcap"), tmp_path / "damaged.mcap"
     damage.damage(whole, damaged, len(damage.chunks(whole)) // 2, "flip")
-    reference = table_from_recording(whole).rows[0].moves
+    reference = table_from_recording(whole).rows[0].measured
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         (row,) = table_from_recording(damaged).rows
@@ -142,13 +142,17 @@ def test_a_damaged_chunk_is_skipped_and_its_moves_left_unmeasured(tmp_path, dama
         "/axisflow/a0/setpoint",
     }
     assert all(issubclass(w.category, DamagedLogWarning) for w in caught)
-    hit = [m.samples_missing > 0 for m in row.moves]
+    measured = row.measured
+    assert measured is not None and reference is not None
+    hit = [missing > 0 for missing in measured.state_samples_missing]
     assert any(hit) and not all(hit)  # the hole lies in some moves, not all
-    for move, before in zip(row.moves, reference, strict=True):
-        if move.samples_missing:
-            assert math.isnan(move.energy_measured_j)  # never integrated across the hole
+    for missing, energy, before in zip(
+        measured.state_samples_missing, measured.energies_j, reference.energies_j, strict=True
+    ):
+        if missing:
+            assert energy is None  # never integrated across the hole
         else:
-            assert move.energy_measured_j == before.energy_measured_j
+            assert energy == before
     done = cli.run("table2", str(damaged), "--out", str(tmp_path / "t2"))
     assert done.returncode == 0, done.stderr
     assert [line.split(": warning: ")[0] for line in done.stderr.strip().splitlines()] == [
