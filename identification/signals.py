@@ -8,10 +8,20 @@ axis geometry (r, i_r of the parameter file):
   F = τ·i_r/r; the fit's errors are reported in N·m;
 * a **carriage** joint (position [m], velocity [m/s], belt force [N]) is used as it is; errors in N.
 
-Checks, each a one-line :class:`IdentificationError`: the time stamps must increase, by steps within
-:data:`GAP_TOLERANCE` of the log's median step (a gap or a jump back names its sample and time);
-non-finite values are dropped and counted (an error above :data:`MAX_NONFINITE_FRACTION`); the record
-must be long enough and the axis must move.
+Checks, each a one-line :class:`IdentificationError`: the time stamps must increase (a jump back names
+its sample and time); non-finite positions and efforts are dropped and counted (an error above
+:data:`MAX_NONFINITE_FRACTION`); the record must be long enough and the axis must move.
+
+Lost samples are normal (a frame lost on a fieldbus, a message dropped on a busy network, a damaged
+chunk a reader skipped): the samples are placed on the drive's sampling grid
+(:mod:`.sample_grid`), the holes are filled by interpolation so that filters can run, counted and
+marked (``observed``), and preparation keeps every filtered or differentiated value that a hole
+touches out of the fit. Only a log missing more than
+:data:`~.sample_grid.MAX_LOST_FRACTION` of its grid is refused.
+
+Velocity: the fit never uses a logged velocity (a drive's velocity is its own filtered estimate, with
+its own lag); it differentiates the filtered position. A log without velocities (many drivers send
+none: an empty array in every message) is read as well; ``velocity_logged`` says whether it had them.
 
 Window. A :class:`TimeWindow` keeps the samples of each log between two times (seconds from an origin:
 the log's first sample unless given) and checks only those: a log with a gap or a stretch of no
@@ -34,18 +44,14 @@ from pathlib import Path
 import numpy as np
 
 from ..acquisition.logs.log_reader import read_joint_states
-from ..model import AxisflowError, AxisParams
+from ..model import AxisParams
+from .errors import IdentificationError
+from .sample_grid import SampleGrid, place_on_grid
 
-GAP_TOLERANCE = 0.5
-"""a step between stamps may differ from the median step by this fraction"""
 MAX_NONFINITE_FRACTION = 0.01
 """more non-finite samples than this fraction of a log is an error, not something to drop"""
 MIN_DURATION_S = 2.0
 MIN_MOTION_M_S = 1e-3
-
-
-class IdentificationError(AxisflowError, ValueError):
-    """A log or a setting cannot be used for identification (the message names what and why)."""
 
 
 @dataclass(frozen=True)
@@ -128,8 +134,9 @@ def joint_kind(name: str, kind: str | None = None) -> JointKind:
 
 @dataclass(frozen=True, eq=False)
 class JointSignals:
-    """One log's joint, in the cart frame: times from the log's first stamp, position, velocity and
-    the force the joint's effort means, all float64 arrays of the same length."""
+    """One log's joint, in the cart frame, on the drive's sampling grid: times from the first sample,
+    position, velocity and the force the joint's effort means, all float64 arrays of the grid's length
+    (values at missing samples interpolated; ``observed`` marks the real ones)."""
 
     source: str
     topic: str
@@ -144,14 +151,23 @@ class JointSignals:
     effort_per_force: float
     """the joint's effort per cart force: r/i_r for a motor joint [N·m/N], 1 for a carriage joint"""
     finite: np.ndarray
-    """False where a sample had a non-finite value (filled by interpolation; never fitted)"""
+    """False where a sample had a non-finite position or effort (filled by interpolation; never fitted)"""
     truncated: bool
     stamp_jitter_s: float
     """the largest deviation of a stamp from the uniform grid ``t_s`` [s]"""
+    grid: SampleGrid
+    """where the samples sit on the drive's grid; its holes"""
+    velocity_logged: bool
+    """whether the log carries velocities (NaN at grid points without one; never fitted)"""
+
+    @property
+    def observed(self) -> np.ndarray:
+        """True at the grid points that have a sample."""
+        return self.grid.observed()
 
     @property
     def rate_hz(self) -> float:
-        return (len(self.t_s) - 1) / (self.t_s[-1] - self.t_s[0])
+        return 1e9 / self.grid.period_ns
 
     @property
     def duration_s(self) -> float:
@@ -159,7 +175,13 @@ class JointSignals:
 
     @property
     def dropped(self) -> int:
-        return int(np.count_nonzero(~self.finite))
+        """Samples with non-finite values (not counting missing ones)."""
+        return int(np.count_nonzero(~self.finite & self.observed))
+
+    @property
+    def lost(self) -> int:
+        """Samples missing from the log (holes in the grid)."""
+        return self.grid.lost
 
 
 def load_joint(
@@ -187,70 +209,47 @@ def load_joint(
         if window.origin_ns is not None:
             origin_ns = window.origin_ns
         stamps, q, qd, effort = stamps[keep], q[keep], qd[keep], effort[keep]
-    _check_stamps(str(path), stamps, origin_ns, first)
-    finite = np.isfinite(q) & np.isfinite(qd) & np.isfinite(effort)
+    grid = place_on_grid(stamps, str(path), first, origin_ns)
+    finite = np.isfinite(q) & np.isfinite(effort)
     n_bad = int(np.count_nonzero(~finite))
     if n_bad > MAX_NONFINITE_FRACTION * finite.size:
         raise IdentificationError(
             f"{path}: {n_bad} of {finite.size} samples of joint {joint!r} have non-finite values "
             f"(more than {MAX_NONFINITE_FRACTION:.0%}): the log cannot be used"
         )
-    k = np.arange(stamps.size, dtype=float)
-    since_first = (stamps - stamps[0]).astype(float)
-    step_ns, offset_ns = np.polyfit(k, since_first, 1)  # the drive's period and phase, by least squares
-    grid_ns = offset_ns + k * step_ns
-    jitter_s = float(np.max(np.abs(since_first - grid_ns))) * 1e-9
-    t = (grid_ns - grid_ns[0]) * 1e-9
+    velocity_logged = bool(np.isfinite(qd).any())
     if n_bad:
-        q, qd, effort = (_fill(t, a, finite) for a in (q, qd, effort))
+        q, effort = (_fill(a, finite) for a in (q, effort))
+    on_grid = np.zeros(grid.size, dtype=bool)
+    on_grid[grid.index] = finite
+    velocity = np.full(grid.size, np.nan)
+    velocity[grid.index] = qd
     signals = JointSignals(
         source=str(path),
         topic=topic,
         joint=joint,
         kind=jk,
         start_ns=int(stamps[0]),
-        t_s=t,
-        position_m=q * scale,
-        velocity_m_s=qd * scale,
-        force_n=effort / scale,
+        t_s=grid.times_s(),
+        position_m=grid.spread(q) * scale,
+        velocity_m_s=velocity * scale,
+        force_n=grid.spread(effort) / scale,
         effort_per_force=scale,
-        finite=finite,
+        finite=on_grid | ~grid.observed(),
         truncated=columns.truncated,
-        stamp_jitter_s=jitter_s,
+        stamp_jitter_s=grid.jitter_s,
+        grid=grid,
+        velocity_logged=velocity_logged,
     )
     _check_usable(signals)
     return signals
 
 
-def _check_stamps(source: str, stamps: np.ndarray, origin_ns: int, first: int) -> None:
-    """Increasing stamps at a steady step; errors name samples by their index in the whole log
-    (``first``: the index of ``stamps[0]``) and times in seconds from ``origin_ns``."""
-    if stamps.size < 3:
-        raise IdentificationError(f"{source}: {stamps.size} samples are too few to identify anything")
-    steps = np.diff(stamps)
-    back = np.flatnonzero(steps <= 0)
-    t = (stamps - origin_ns) * 1e-9
-    if back.size:
-        k = int(back[0]) + 1
-        raise IdentificationError(
-            f"{source}: time stamps do not increase: sample {first + k} at {t[k]:.6f} s is "
-            f"{-steps[k - 1] * 1e-9:.6f} s before sample {first + k - 1} ({back.size} such steps in all)"
-        )
-    median = float(np.median(steps))
-    off = np.flatnonzero(np.abs(steps - median) > GAP_TOLERANCE * median)
-    if off.size:
-        k = int(off[0])
-        raise IdentificationError(
-            f"{source}: a gap in the time stamps: {steps[k] * 1e-6:.3f} ms between samples {first + k} and "
-            f"{first + k + 1} (at {t[k]:.6f} s), the log's step is {median * 1e-6:.3f} ms ({off.size} such "
-            "steps in all); "
-            "identify needs an unbroken record: fit the part before or after it (--start/--end)"
-        )
-
-
-def _fill(t: np.ndarray, values: np.ndarray, finite: np.ndarray) -> np.ndarray:
-    """Non-finite samples replaced by linear interpolation (so that filters run; never fitted)."""
-    return np.interp(t, t[finite], values[finite])
+def _fill(values: np.ndarray, finite: np.ndarray) -> np.ndarray:
+    """Non-finite samples replaced by linear interpolation between their finite neighbours (so that
+    filters run; never fitted)."""
+    k = np.arange(values.size, dtype=float)
+    return np.interp(k, k[finite], values[finite])
 
 
 def _check_usable(s: JointSignals) -> None:
@@ -259,7 +258,8 @@ def _check_usable(s: JointSignals) -> None:
             f"{s.source}: {s.duration_s:.3f} s of joint {s.joint!r} is too short "
             f"(at least {MIN_DURATION_S:g} s)"
         )
-    peak = float(np.max(np.abs(s.velocity_m_s)))
+    speed = np.abs(np.diff(s.position_m)) * s.rate_hz  # from the position: the log may have no velocity
+    peak = float(np.percentile(speed, 99.9)) if speed.size else 0.0
     if peak < MIN_MOTION_M_S:
         raise IdentificationError(
             f"{s.source}: the axis does not move in this log (peak speed {peak:.3g} m/s, below "
