@@ -5,10 +5,12 @@ from __future__ import annotations
 import argparse
 import json
 
-from ..arguments import add_params_option, finite_float, params_from_args
+from ..arguments import add_params_option, finite_float, non_negative_int, params_from_args
+from ..identification.errors import IdentificationError
+from ..identification.extra_terms import ExtraTerms
 from ..identification.fit import PARAMETERS
 from ..identification.preparation import PreparationSettings
-from ..identification.refit import DEFAULT_JOINT, DEFAULT_TOPIC, IdentifySettings
+from ..identification.refit import DEFAULT_JOINT, DEFAULT_STROKE_TERMS, DEFAULT_TOPIC, IdentifySettings
 from ..identification.report import report_markdown
 from ..identification.signals import TimeWindow
 from ..identify import identify_to
@@ -79,6 +81,21 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="fit each log up to S seconds after its first sample (default: its end)",
     )
     p.add_argument(
+        "--stroke-terms",
+        type=non_negative_int,
+        default=DEFAULT_STROKE_TERMS,
+        metavar="K",
+        help="Legendre terms of the Coulomb friction along the stroke, fitted beside a1…a4 (a1 is then "
+        f"their average over the covered stretch; 0: none; default {DEFAULT_STROKE_TERMS})",
+    )
+    p.add_argument(
+        "--cogging",
+        default="",
+        metavar="ORDERS",
+        help="comma-separated cogging orders [cycles per motor revolution] fitted beside a1…a4, e.g. 24,48 "
+        "(the report's residual peaks in cycles per revolution show which; default: none)",
+    )
+    p.add_argument(
         "--cutoff",
         type=finite_float,
         default=PreparationSettings.cutoff_hz,
@@ -88,6 +105,20 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--json", action="store_true", help="print report.json instead of the summary")
     add_params_option(p)
     p.set_defaults(func=run)
+
+
+def _orders(text: str) -> tuple[int, ...]:
+    orders = []
+    for part in (p.strip() for p in text.split(",")):
+        if not part:
+            continue
+        try:
+            orders.append(int(part))
+        except ValueError:
+            raise IdentificationError(
+                f"--cogging {text}: {part!r} is not a whole number of cycles per motor revolution"
+            ) from None
+    return tuple(orders)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -101,6 +132,7 @@ def run(args: argparse.Namespace) -> int:
         torque_delay_s=args.torque_delay,
         holdout=args.holdout,
         window=TimeWindow(args.start, args.end),
+        extra=ExtraTerms(args.stroke_terms, _orders(args.cogging)),
     )
     out = check_output_dir(args.out)  # a bad --out fails before the work, not after it
     _ident, report = identify_to(out, args.logs, nominal, settings, validate=args.validate)
