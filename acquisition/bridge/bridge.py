@@ -15,7 +15,8 @@ and watches the move senders' tokens ``<prefix>/<axis>/sender/*``. Moves arrivin
 3. reads the drive's sample and publishes it on ``state`` (a sample the drive lost on the way is
    counted, and nothing is published for it);
 4. computes the setpoint of tick k, publishes it on ``setpoint`` (stamped with the tick's drive time)
-   and applies it to the drive.
+   and applies it to the drive; once a second of drive time (from tick 0) it publishes what drives the
+   axis (:class:`~axisflow.acquisition.wire.drive_info.DriveInfo`) on ``drive``.
 
 Every step of a move's life (accepted, rejected with the reason, started, completed, dropped) is a
 typed :class:`~axisflow.acquisition.wire.move_status.MoveStatus` on ``<prefix>/<axis>/event``, published
@@ -32,6 +33,7 @@ period is the jitter reported on exit. Tests drive :meth:`Bridge.step` directly.
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import threading
 import time
@@ -48,6 +50,8 @@ from ..drives.drive import Drive
 from ..errors import AcquisitionError, WireError
 from ..histogram import DurationHistogram, DurationStats
 from ..wire.attachment import unpack_attachment
+from ..wire.drive_info import DRIVE_INFO_TYPE, DriveInfo
+from ..wire.drive_info import PERIOD_TICKS as DRIVE_INFO_PERIOD
 from ..wire.keys import AxisKeys, sender_of_token
 from ..wire.messages import JOINT_STATE_TYPE
 from ..wire.move_status import MOVE_STATUS_TYPE, NO_TICK, MoveState, MoveStatus
@@ -82,8 +86,9 @@ class BridgeConfig:
     wait_subscribers_s: float = 0.0
     """before the first tick, wait up to this long for a subscriber on the state key"""
     jump_tolerance_m: float = DEFAULT_JUMP_TOLERANCE_M
-    drive: str = ""
-    """what drives the axis, for the report (the simulated axis: its plant profile and file)"""
+    drive: DriveInfo | None = None
+    """what drives the axis: published on ``<prefix>/<axis>/drive`` at the start and every
+    :data:`DRIVE_INFO_PERIOD`, and named in the report (None: neither)"""
 
     def __post_init__(self) -> None:
         if not self.speed >= 0.0:
@@ -199,7 +204,7 @@ class Bridge:
         self.params = params
         self.config = config
         self.keys = config.keys
-        self.report = BridgeReport(drive=config.drive)
+        self.report = BridgeReport(drive=config.drive.describe() if config.drive is not None else "")
         self.tick = 0
         """the next tick to run"""
         self._stack = ExitStack()
@@ -234,6 +239,11 @@ class Bridge:
             )
             self._stops = stack.enter_context(
                 session.declare_subscriber(keys.stop, zenoh.handlers.FifoChannel(64))
+            )
+            self._drive_pub = (
+                stack.enter_context(SequencedPublisher(session, keys.drive, DRIVE_INFO_TYPE, Traffic.COMMAND))
+                if self.config.drive is not None
+                else None
             )
             stack.enter_context(session.liveliness().declare_token(keys.alive))
         except BaseException:
@@ -288,6 +298,9 @@ class Bridge:
             q = step.started
             self._status(MoveState.STARTED, q, f"started move {q.command.move_id}")
         self._setpoint_pub.put(step.setpoint.to_sample(self._stamp(), self.keys.axis, self.params).encode())
+        if self._drive_pub is not None and self.tick % DRIVE_INFO_PERIOD == 0:
+            info = dataclasses.replace(self.config.drive, stamp_ns=self._stamp(), axis=self.keys.axis)
+            self._drive_pub.put(info.encode())
         self.drive.apply(step.setpoint)
         self._send_statuses(STATUSES_PER_TICK)
         self.tick += 1

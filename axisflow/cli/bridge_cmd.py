@@ -13,6 +13,7 @@ from ..acquisition.bus.session import open_session
 from ..acquisition.drives.plant import DEFAULT_PROFILE, PROFILE_RESOURCES, load_plant, load_profile
 from ..acquisition.drives.sim_axis import SimulatedAxis
 from ..acquisition.shutdown import stop_on_signals
+from ..acquisition.wire.drive_info import SIMULATED, DriveInfo
 from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
 from ..arguments import add_params_option, finite_float, params_from_args
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
@@ -89,7 +90,7 @@ def run(args: argparse.Namespace) -> int:
         duration_s=args.duration,
         wait_subscribers_s=args.wait_subscribers,
         jump_tolerance_m=args.jump_tolerance,
-        drive=f"simulated axis, plant {plant.describe()}",
+        drive=DriveInfo(0, args.axis, SIMULATED, plant.profile, plant.source),
     )
     options = zenoh_options_from_args(args)
     # its clock starts at the first sample
@@ -99,7 +100,8 @@ def run(args: argparse.Namespace) -> int:
         # collection on the 1 kHz loop costs ~0 ms instead of 40–55 ms (measured)
         gc.freeze()
         if not args.json:
-            print(f"bridge: axis {args.axis}, {config.drive}", file=sys.stderr, flush=True)
+            assert config.drive is not None
+            print(f"bridge: axis {args.axis}, {config.drive.describe()}", file=sys.stderr, flush=True)
         try:
             report = run_bridge(session, drive, params, config, stop)
         finally:
