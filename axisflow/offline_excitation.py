@@ -6,9 +6,9 @@
 queue (:class:`~axisflow.acquisition.bridge.move_queue.MoveQueue`, validated like live moves); each
 tick the drive's sample (unless the plant lost it) and the setpoint are written, as the recorder
 writes them, to an MCAP file (:class:`~axisflow.acquisition.logs.mcap_writer.Ros2McapWriter`:
-``/<prefix>/<axis>/state`` and ``setpoint``, publish time = the sample's stamp, log time 0.4 ms later,
-sequence numbers per topic). The tests and the docs' figures of the realistic plant use it; the
-end-to-end path with real processes is tests/top.
+``/<prefix>/<axis>/state`` and ``setpoint``, and the drive's DriveInfo once a second; publish time =
+the sample's stamp, log time 0.4 ms later, sequence numbers per topic). The tests and the docs'
+figures of the realistic plant use it; the end-to-end path with real processes is tests/top.
 """
 
 from __future__ import annotations
@@ -20,6 +20,8 @@ from .acquisition.bridge.move_queue import MoveQueue
 from .acquisition.drives.plant import PlantConfig
 from .acquisition.drives.sim_axis import SimulatedAxis
 from .acquisition.logs.mcap_writer import Ros2McapWriter
+from .acquisition.wire.drive_info import DRIVE_INFO_TYPE, SIMULATED, DriveInfo
+from .acquisition.wire.drive_info import PERIOD_TICKS as DRIVE_INFO_PERIOD
 from .acquisition.wire.keys import AxisKeys, topic_for_key
 from .acquisition.wire.messages import APPEND, JOINT_STATE_TYPE, SAMPLED_LAW, Knots, MoveCommand
 from .identification.excitation import ExcitationPlan
@@ -100,6 +102,8 @@ def record_offline_excitation(
                 out.state(sample.stamp_ns, sample.encode())
                 written += 1
             out.setpoint(stamp, setpoint.to_sample(stamp, keys.axis, nominal).encode())
+            if tick % DRIVE_INFO_PERIOD == 0:
+                out.drive(stamp, DriveInfo(stamp, keys.axis, SIMULATED, plant.profile, plant.source).encode())
             drive.apply(setpoint)
     origin = queue.stamp_of(queued[0].start_tick)
     end_s = (queue.stamp_of(queued[-1].end_tick) - origin) * 1e-9
@@ -114,7 +118,8 @@ class _Writer:
         self._mcap = Ros2McapWriter(path)
         self._state = self._mcap.channel_for(topic_for_key(keys.state), JOINT_STATE_TYPE)
         self._setpoint = self._mcap.channel_for(topic_for_key(keys.setpoint), JOINT_STATE_TYPE)
-        self._sequence = {self._state: 0, self._setpoint: 0}
+        self._drive = self._mcap.channel_for(topic_for_key(keys.drive), DRIVE_INFO_TYPE)
+        self._sequence = {self._state: 0, self._setpoint: 0, self._drive: 0}
 
     def __enter__(self) -> _Writer:
         return self
@@ -131,3 +136,6 @@ class _Writer:
 
     def setpoint(self, stamp_ns: int, data: bytes) -> None:
         self._add(self._setpoint, stamp_ns, data)
+
+    def drive(self, stamp_ns: int, data: bytes) -> None:
+        self._add(self._drive, stamp_ns, data)

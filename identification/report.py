@@ -12,7 +12,8 @@ noise_density_nm2_per_hz, floor_band_hz, fit_over_floor, validation_over_floor, 
 [{frequency_hz, rms_nm, ratio}], peaks_order [{cycles_per_rev, rms_nm, ratio}], segments,
 order_segments}, ``solver`` {method, status, iterations, time_s}, ``timing_s`` {read, prepare, solve,
 total}, ``log`` {paths, topic, joint, joint_kind, samples, duration_s, truncated, stamp_jitter_s,
-window (null: whole logs, else {start_s, end_s, origin_ns})}, ``samples`` {total (grid points), used,
+window (null: whole logs, else {start_s, end_s, origin_ns}), drive (per log: what drove the axis, as
+its bridge recorded it; null if it did not)}, ``samples`` {total (grid points), used,
 fitted, stationary, saturated, trimmed, non_finite, missing, holes, longest_hole_s, near_holes},
 ``velocity`` {used, logged, logged_lag_s}, ``uncertainty`` {method, samples, effective_samples,
 flagged}, ``torque_delay_s`` {value, estimated, estimate, std, resolvable, period}, ``preparation``
@@ -31,7 +32,7 @@ from ..model import params_to_toml
 from .fit import PARAMETER_UNITS
 from .preparation import logged_velocity_lag_s
 from .refit import Identification
-from .signals import JointKind
+from .signals import JointKind, recorded_drive
 
 SOLVER_METHOD = "CasADi sqpmethod (qrqp QP steps, Gauss–Newton Hessian)"
 
@@ -85,6 +86,7 @@ def report_json(ident: Identification) -> dict[str, Any]:
                 "truncated": [log.signals.truncated for log in logs],
                 "stamp_jitter_s": max(log.signals.stamp_jitter_s for log in logs),
                 "window": None if ident.settings.window.whole else dataclasses.asdict(ident.settings.window),
+                "drive": [recorded_drive(log.signals.source, log.signals.topic) for log in logs],
             },
             "samples": {
                 "total": sum(len(log.signals.t_s) for log in logs),
@@ -222,7 +224,9 @@ def report_markdown(report: dict[str, Any]) -> str:
         "# Friction refit",
         "",
         f"Log: {', '.join(log['paths'])}, topic `{log['topic']}`, joint `{log['joint']}` "
-        f"({log['samples']} samples, {log['duration_s']:.1f} s{_window_text(log.get('window'))}).",
+        f"({log['samples']} samples, {log['duration_s']:.1f} s{_window_text(log.get('window'))})"
+        + _drive_text(log.get("drive"))
+        + ".",
         "",
         "| parameter | refit | σ | nominal | change |",
         "|---|---:|---:|---:|---:|",
@@ -377,6 +381,11 @@ def params_file(ident: Identification) -> str:
         "# A refit M_eq is written as the cart mass m (rotor, gearbox and pulley inertias stay nominal).\n"
     )
     return head + params_to_toml(ident.params)
+
+
+def _drive_text(drives: list[str | None] | None) -> str:
+    known = sorted({d for d in drives or [] if d})
+    return f"; recorded on the {', '.join(known)}" if known else ""
 
 
 def _window_text(window: dict[str, Any] | None) -> str:

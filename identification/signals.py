@@ -43,8 +43,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..acquisition.logs.log_reader import read_joint_states
-from ..model import AxisParams
+from ..acquisition.logs.log_reader import read_joint_states, read_messages
+from ..acquisition.wire.drive_info import DRIVE_INFO_TYPE, DriveInfo
+from ..model import AxisflowError, AxisParams
 from .errors import IdentificationError
 from .sample_grid import SampleGrid, place_on_grid
 
@@ -265,3 +266,15 @@ def _check_usable(s: JointSignals) -> None:
             f"{s.source}: the axis does not move in this log (peak speed {peak:.3g} m/s, below "
             f"{MIN_MOTION_M_S:g} m/s): run `axisflow excite` while recording"
         )
+
+
+def recorded_drive(path: str | Path, topic: str) -> str | None:
+    """What drove the axis whose samples are on ``topic`` (``/<prefix>/<axis>/state``), as its bridge
+    recorded it on ``/<prefix>/<axis>/drive`` (:class:`~axisflow.acquisition.wire.drive_info.DriveInfo`);
+    None for a log without it (another tool's, or a bridge that did not say)."""
+    drive_topic = topic.rsplit("/", 1)[0] + "/drive"
+    try:
+        messages = read_messages(path, drive_topic, DRIVE_INFO_TYPE)
+    except AxisflowError:
+        return None
+    return DriveInfo.decode(messages[-1].data).describe() if messages else None

@@ -64,6 +64,8 @@ def test_the_report_counts_the_lost_samples_and_names_the_velocity_it_used(refit
     assert samples["missing"] == run.samples_lost == run.ticks - run.samples_written > 50
     assert samples["holes"] >= 1 and samples["near_holes"] > 0
     assert 40e-6 < report["log"]["stamp_jitter_s"] <= 55e-6  # ±50 µs about the fitted grid
+    assert report["log"]["drive"] == ["simulated axis, plant realistic (packaged plant_realistic.toml)"]
+    assert "recorded on the simulated axis, plant realistic" in report_markdown(report)
     velocity = report["velocity"]
     assert velocity["used"].startswith("derivative of the zero-phase filtered position")
     # the drive's 100 Hz first-order estimate on a backward difference: 1.13 + 0.5 ms
