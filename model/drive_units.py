@@ -135,4 +135,4 @@ class DriveUnits:
 
 
 def _clamp(value: int, low: int, high: int) -> int:
-    return int(min(max(value, low), high))
+    return int(low if value < low else high if value > high else value)

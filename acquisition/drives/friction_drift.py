@@ -39,7 +39,9 @@ class FrictionDrift:
         self.temperature_c = thermal.ambient_c if thermal is not None else math.nan
         """the lubricant's temperature [°C] (NaN without a thermal model)"""
         self.travelled_m = 0.0
-        """distance the cart has travelled [m]"""
+        """distance the cart has travelled [m] (counted when the friction drifts: thermal or wear)"""
+        self.drifts = thermal is not None or wear is not None
+        """whether :meth:`step` changes anything (else a caller may skip it)"""
         self._decay = math.exp(-EXECUTION_PERIOD_S / thermal.time_constant_s) if thermal else 1.0
         self._coulomb = 1.0
         self._viscous = 1.0

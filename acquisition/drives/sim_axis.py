@@ -152,6 +152,7 @@ class SimulatedAxis:
                 else RigidAxis(p, plant.simulation.substeps, x0)
             )
             self._drift = FrictionDrift(p, plant.stroke_friction, plant.thermal, plant.wear)
+            self._force_per_torque = p.i_r / p.r
             self._real.measure(self._mech.motor_x, 0.0, first=True)
             self._x_meas, self._v_meas = self._real.position_m, self._real.velocity_m_s
 
@@ -255,13 +256,13 @@ class SimulatedAxis:
 
     def _advance_realistic(self, tau_nm: float) -> None:
         real, mech, drift = self._real, self._mech, self._drift
-        tau_rotor = tau_nm + real.loop_noise()
-        cogging = real.cogging_nm(mech.motor_x, mech.motor_v)
-        friction = drift.friction_at(mech.x)
+        tau_rotor = tau_nm + real.loop_torque_nm
+        cogging = real.cogging_nm(mech.motor_x, mech.motor_v) if real.cogging else 0.0
+        a1, a2, a3, a4 = friction = drift.friction_at(mech.x)
         x_before = mech.x
-        p = self.plant.axis
-        mech.advance((tau_rotor + cogging) * p.i_r / p.r, *friction)
-        drift.step(friction, abs(mech.v), abs(mech.x - x_before))
+        mech.advance((tau_rotor + cogging) * self._force_per_torque, a1, a2, a3, a4)
+        if drift.drifts:
+            drift.step(friction, abs(mech.v), abs(mech.x - x_before))
         real.measure(mech.motor_x, tau_rotor)
 
     def close(self) -> None:
@@ -290,7 +291,8 @@ class _DriveSignals:
         self._loop = _ColouredNoise(loop.torque_noise_std_nm, loop.torque_noise_corner_hz)
         self._sensor = _ColouredNoise(loop.measurement_noise_std_nm, loop.measurement_noise_corner_hz)
         cog = plant.cogging
-        self._cogging = tuple(zip(cog.orders, cog.amplitudes_nm, cog.phases_rad, strict=True)) if cog else ()
+        self.cogging = tuple(zip(cog.orders, cog.amplitudes_nm, cog.phases_rad, strict=True)) if cog else ()
+        """(order, amplitude [N·m], phase [rad]) of each cogging harmonic"""
         self._rad_per_m = plant.axis.i_r / plant.axis.r
         clock = plant.sample_clock or SampleClockConfig()
         self._jitter_ns = clock.jitter_ns
@@ -305,21 +307,16 @@ class _DriveSignals:
         self.torque_nm = 0.0
         self.jitter_ns = 0
         self.lost = False
-        self._loop_now = 0.0
-
-    def loop_noise(self) -> float:
-        """The current loop's torque error of this tick [N·m] (drawn with the tick's other draws)."""
-        return self._loop_now
+        self.loop_torque_nm = 0.0
+        """the current loop's torque error through the coming tick [N·m] (drawn with the tick's draws)"""
 
     def cogging_nm(self, motor_x_m: float, motor_v_m_s: float) -> float:
         """Cogging torque [N·m] averaged over the tick's travel of the motor angle."""
-        if not self._cogging:
-            return 0.0
         theta = motor_x_m * self._rad_per_m
         dtheta = motor_v_m_s * self._rad_per_m * EXECUTION_PERIOD_S
         middle = theta + 0.5 * dtheta
         total = 0.0
-        for order, amplitude, phase in self._cogging:
+        for order, amplitude, phase in self.cogging:
             half = 0.5 * order * dtheta
             sinc = math.sin(half) / half if abs(half) > 1e-9 else 1.0
             total += amplitude * math.sin(order * middle + phase) * sinc
@@ -344,7 +341,7 @@ class _DriveSignals:
         self.reported_velocity_m_s = round(self._v_counts_s) * self._m_per_count
         sensed = rotor_torque_nm + self._sensor.next(g_sensor) + self._white_nm * g_white
         self.torque_nm = units.torque_nm(units.per_mille(sensed)) if units is not None else sensed
-        self._loop_now = self._loop.next(g_loop)
+        self.loop_torque_nm = self._loop.next(g_loop)
         jitter = self._jitter_ns
         self.jitter_ns = int(u_jitter * (2 * jitter + 1)) - jitter if jitter else 0
         self.lost = u_lost < self._drop and not first
