@@ -43,6 +43,8 @@ class ExtraTerms:
     """K: Legendre terms of the Coulomb friction along the stroke (0: none)"""
     cogging_orders: tuple[int, ...] = ()
     """cogging orders n [cycles per motor revolution] (empty: none)"""
+    auto_cogging: bool = False
+    """also take in the orders the residual of a first fit shows (:func:`~.refit.auto_cogging_orders`)"""
 
     def __post_init__(self) -> None:
         if isinstance(self.stroke_terms, bool) or not 0 <= self.stroke_terms <= MAX_STROKE_TERMS:

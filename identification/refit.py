@@ -9,7 +9,9 @@ extra terms by SQP (:func:`.fit.fit_window`, with σ and correlations), and judg
 effort error of the refit and of the nominal parameters side by side, on the fitted samples and on
 validation samples (a separate log, ``validate``, or the last ``holdout`` fraction of each log, then
 left out of the fit), and what the model leaves unexplained (:mod:`.residuals`: the noise floor, the
-residual's peaks in Hz and in cycles per motor revolution).
+residual's peaks in Hz and in cycles per motor revolution). With ``--cogging auto`` (the default), a
+residual peak that stands far out at a whole number of cycles per motor revolution is cogging: the
+fit is done again with those orders taken in (:func:`auto_cogging_orders`), and the report says so.
 
 Errors are measured minus model effort at every usable sample (1 kHz, not decimated), both through the
 same zero-phase filter as the fit (:mod:`.preparation`): a drive's torque carries content above the
@@ -60,8 +62,9 @@ class IdentifySettings:
     """the last fraction of each log kept for validation (0: none)"""
     window: TimeWindow = field(default_factory=TimeWindow)
     """the part of each fitted log to use (default: all of it; validation logs are used whole)"""
-    extra: ExtraTerms = field(default_factory=lambda: ExtraTerms(DEFAULT_STROKE_TERMS))
-    """terms beyond eq. (1): friction along the stroke, cogging"""
+    extra: ExtraTerms = field(default_factory=lambda: ExtraTerms(DEFAULT_STROKE_TERMS, auto_cogging=True))
+    """terms beyond eq. (1): friction along the stroke, cogging (by default the orders the residual
+    shows: :func:`auto_cogging_orders`)"""
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "fit", check_fit_names(tuple(self.fit)))
@@ -107,6 +110,8 @@ class Identification:
     """the offset search (None: the offset was given)"""
     delay_s: float
     """the torque/position offset the fit used [s]"""
+    extra: ExtraTerms
+    """the extra terms fitted (with any cogging orders the residual showed, ``--cogging auto``)"""
     stretch_m: tuple[float, float]
     """the stretch of the stroke the fitted samples cover [m] (the extra stroke terms' span)"""
     columns: tuple[TermColumns, ...]
@@ -118,6 +123,8 @@ class Identification:
     validation_logs: tuple[PreparedLog, ...]
     validation_columns: tuple[TermColumns, ...]
     timing_s: dict[str, float]
+    cogging_found: tuple[int, ...] = ()
+    """cogging orders the first pass's residual showed and the fit then took in (``--cogging auto``)"""
 
     @property
     def fit(self) -> FitResult:
@@ -209,56 +216,105 @@ def identify(
     val_logs = [prepare(sig, s.preparation, limit) for sig in held]
     fit_keep, val_keep = _split(logs, s.holdout)
     parts = fit_indices(logs, s.preparation.fit_rate_hz, fit_keep)
-    stretch = covered_stretch(logs, parts)
-    columns = [s.extra.columns(log, stretch, nominal, s.preparation) for log in logs]
-    val_columns = [s.extra.columns(log, stretch, nominal, s.preparation) for log in val_logs]
     t_prepare = time.perf_counter()
-    names, scales = s.extra.names, s.extra.scales(nominal)
-    delay = None
-    if s.torque_delay_s is None:
-        delay = estimate_delay(logs, parts, nominal, s.fit, columns, names, scales)
-    delay_s = delay.value_s if delay is not None else s.torque_delay_s
-    assert delay_s is not None
-    samples = fit_samples(logs, parts, delay_s, columns)
-    window_fit = fit_window(samples, nominal, s.fit, extra_names=names, extra_scales=scales)
-    if not window_fit.success:
-        result = window_fit.result
-        raise IdentificationError(
-            f"the SQP did not converge ({result.status}, {result.iterations} iterations)"
-        )
-    t_solve = time.perf_counter()
-    ident = Identification(
-        settings=s,
-        nominal=nominal,
-        params=refit_params(nominal, window_fit.values, window_fit.result.fitted),
-        logs=tuple(logs),
-        window_fit=window_fit,
-        delay=delay,
-        delay_s=delay_s,
-        stretch_m=stretch,
-        columns=tuple(columns),
-        errors={},
-        residuals=_placeholder_residuals(),
-        validation_source="",
-        validation_logs=tuple(val_logs),
-        validation_columns=tuple(val_columns),
-        timing_s={},
-    )
-    errors, source = _judge(ident, fit_keep, val_keep)
-    residuals = _residuals(ident, fit_keep)
+    run = _FitPass(s, nominal, logs, val_logs, fit_keep, val_keep, parts)
+    ident = run.fit(s.extra)
+    found = auto_cogging_orders(ident.residuals, ident.extra) if s.extra.auto_cogging else ()
+    if found:
+        orders = tuple(sorted(ident.extra.cogging_orders + found))
+        ident = run.fit(dataclasses.replace(ident.extra, cogging_orders=orders))
     t_end = time.perf_counter()
     return dataclasses.replace(
         ident,
-        errors=errors,
-        residuals=residuals,
-        validation_source=source,
+        cogging_found=found,
         timing_s={
             "read": t_read - t0,
             "prepare": t_prepare - t_read,
-            "solve": t_solve - t_prepare,
+            "solve": t_end - t_prepare,
             "total": t_end - t0,
         },
     )
+
+
+AUTO_COGGING_RATIO = 20.0
+"""a residual peak at a whole number of cycles per motor revolution this many times above its
+neighbours is cogging (or torque ripple) the fit takes in (``--cogging auto``)"""
+AUTO_COGGING_MAX = 4
+
+
+def auto_cogging_orders(residuals: ResidualAnalysis, extra: ExtraTerms) -> tuple[int, ...]:
+    """The orders of the residual's angle-domain peaks that stand :data:`AUTO_COGGING_RATIO` above
+    their neighbours at a whole number of cycles per revolution (±0.25) and are not fitted yet."""
+    found: list[int] = []
+    for peak in residuals.peaks_order:
+        order = round(peak.frequency)
+        whole = abs(peak.frequency - order) <= 0.25
+        if (
+            whole
+            and peak.ratio >= AUTO_COGGING_RATIO
+            and order not in extra.cogging_orders
+            and order not in found
+        ):
+            found.append(order)
+    return tuple(found[:AUTO_COGGING_MAX])
+
+
+class _FitPass:
+    """One fit of prepared logs with a set of extra terms: columns, the offset, the SQP, the judgement."""
+
+    def __init__(
+        self,
+        settings: IdentifySettings,
+        nominal: AxisParams,
+        logs: list[PreparedLog],
+        val_logs: list[PreparedLog],
+        fit_keep: list[np.ndarray] | None,
+        val_keep: list[np.ndarray] | None,
+        parts: list[np.ndarray],
+    ) -> None:
+        self.settings, self.nominal = settings, nominal
+        self.logs, self.val_logs = logs, val_logs
+        self.fit_keep, self.val_keep, self.parts = fit_keep, val_keep, parts
+        self.stretch = covered_stretch(logs, parts)
+
+    def fit(self, extra: ExtraTerms) -> Identification:
+        s, nominal, logs, parts = self.settings, self.nominal, self.logs, self.parts
+        columns = [extra.columns(log, self.stretch, nominal, s.preparation) for log in logs]
+        val_columns = [extra.columns(log, self.stretch, nominal, s.preparation) for log in self.val_logs]
+        names, scales = extra.names, extra.scales(nominal)
+        delay = None
+        if s.torque_delay_s is None:
+            delay = estimate_delay(logs, parts, nominal, s.fit, columns, names, scales)
+        delay_s = delay.value_s if delay is not None else s.torque_delay_s
+        assert delay_s is not None
+        samples = fit_samples(logs, parts, delay_s, columns)
+        window_fit = fit_window(samples, nominal, s.fit, extra_names=names, extra_scales=scales)
+        if not window_fit.success:
+            result = window_fit.result
+            raise IdentificationError(
+                f"the SQP did not converge ({result.status}, {result.iterations} iterations)"
+            )
+        ident = Identification(
+            settings=s,
+            nominal=nominal,
+            params=refit_params(nominal, window_fit.values, window_fit.result.fitted),
+            logs=tuple(logs),
+            window_fit=window_fit,
+            delay=delay,
+            delay_s=delay_s,
+            extra=extra,
+            stretch_m=self.stretch,
+            columns=tuple(columns),
+            errors={},
+            residuals=_placeholder_residuals(),
+            validation_source="",
+            validation_logs=tuple(self.val_logs),
+            validation_columns=tuple(val_columns),
+            timing_s={},
+        )
+        errors, source = _judge(ident, self.fit_keep, self.val_keep)
+        residuals = _residuals(ident, self.fit_keep)
+        return dataclasses.replace(ident, errors=errors, residuals=residuals, validation_source=source)
 
 
 def _judge(

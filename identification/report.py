@@ -3,8 +3,9 @@
 report.json keys: ``parameters`` {name: {value, std, initial, unit}} (eq. (1)'s fitted parameters),
 ``coulomb_combination`` {name, value, std, initial, unit} (a1 + a3·π/2: the Coulomb force at speed,
 what a log always determines, even when it cannot separate a1 from a3), ``extra_terms`` {stroke
-{terms, stretch_m, coefficients {c_k: {value, std, unit}}, variation_pct}, cogging {order: {amplitude_nm,
-phase_rad, std_nm}}}, ``correlation`` {names, matrix} (every estimated term), ``condition_number``,
+{terms, stretch_m, coefficients {c_k: {value, std, unit}}, variation_pct}, cogging {order:
+{amplitude_nm, phase_rad, std_nm, found_in_residual}}}, ``correlation`` {names, matrix} (every
+estimated term), ``condition_number``,
 ``fit`` and ``validation`` (and their ``*_nominal`` twins: the nominal parameters' error on the same
 samples) each {rms_nm, max_abs_nm, nrmse_pct, samples, rms_unfiltered_nm} — ``_n`` instead of ``_nm``
 for a carriage joint —, ``unexplained`` {rms_nm, rms_filtered_nm, noise_floor_nm,
@@ -152,7 +153,7 @@ def _coulomb_combination(ident: Identification) -> dict[str, Any] | None:
 
 def _extra_terms(ident: Identification) -> dict[str, Any]:
     extra, std = ident.fit.extra, ident.uncertainty.std
-    terms = ident.settings.extra
+    terms = ident.extra
     out: dict[str, Any] = {"stroke": None, "cogging": None}
     if terms.stroke_terms:
         names = [f"c{k}" for k in range(1, terms.stroke_terms + 1)]
@@ -174,6 +175,7 @@ def _extra_terms(ident: Identification) -> dict[str, Any]:
                 "amplitude_nm": math.hypot(s, c),
                 "phase_rad": math.atan2(c, s),
                 "std_nm": max(std[f"cog{order}_sin"], std[f"cog{order}_cos"]),
+                "found_in_residual": order in ident.cogging_found,
             }
         out["cogging"] = cogging
     return out
@@ -329,9 +331,10 @@ def _extra_lines(report: dict[str, Any]) -> list[str]:
         parts = ", ".join(
             f"order {n}: {c['amplitude_nm'] * 1e3:.2f} ± {c['std_nm'] * 1e3:.2f} mN·m "
             f"at {c['phase_rad']:+.2f} rad"
+            + (" (found in the residual)" if c.get("found_in_residual") else "")
             for n, c in cogging.items()
         )
-        lines += ["", f"Cogging: {parts}."]
+        lines += ["", f"Cogging, fitted beside eq. (1): {parts}."]
     return lines
 
 
@@ -366,8 +369,8 @@ def _unexplained_lines(report: dict[str, Any], unit: str, key: str) -> list[str]
             for p in u["peaks_order"]
         )
         lines.append(
-            f"Residual peaks in cycles per motor revolution: {peaks} (cogging or torque ripple: add the "
-            "orders with --cogging)."
+            f"Residual peaks in cycles per motor revolution: {peaks} (cogging or torque ripple; what is "
+            "fitted is fitted below the filter's cut-off, the raw torque keeps it above)."
         )
     return lines
 

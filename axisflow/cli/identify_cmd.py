@@ -90,10 +90,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument(
         "--cogging",
-        default="",
+        default="auto",
         metavar="ORDERS",
-        help="comma-separated cogging orders [cycles per motor revolution] fitted beside a1…a4, e.g. 24,48 "
-        "(the report's residual peaks in cycles per revolution show which; default: none)",
+        help="cogging orders [cycles per motor revolution] fitted beside a1…a4: comma-separated (e.g. "
+        "24,48), 'auto' (default: the orders whose residual peak stands out, found by a first fit) or 'none'",
     )
     p.add_argument(
         "--cutoff",
@@ -108,6 +108,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def _orders(text: str) -> tuple[int, ...]:
+    if text.strip() in ("auto", "none"):
+        return ()
     orders = []
     for part in (p.strip() for p in text.split(",")):
         if not part:
@@ -132,7 +134,9 @@ def run(args: argparse.Namespace) -> int:
         torque_delay_s=args.torque_delay,
         holdout=args.holdout,
         window=TimeWindow(args.start, args.end),
-        extra=ExtraTerms(args.stroke_terms, _orders(args.cogging)),
+        extra=ExtraTerms(
+            args.stroke_terms, _orders(args.cogging), auto_cogging=args.cogging.strip() == "auto"
+        ),
     )
     out = check_output_dir(args.out)  # a bad --out fails before the work, not after it
     _ident, report = identify_to(out, args.logs, nominal, settings, validate=args.validate)

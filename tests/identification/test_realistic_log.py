@@ -85,18 +85,23 @@ def test_the_torque_delay_is_within_a_sample_period_of_the_drives_or_not_resolva
 
 
 def test_what_the_model_misses_is_reported_in_hz_and_in_cycles_per_revolution(refit):
-    _ident, report, _run = refit
+    ident, report, run = refit
     u = report["unexplained"]
     orders = [p["cycles_per_rev"] for p in u["peaks_order"]]
     assert orders[0] == pytest.approx(24.0, abs=0.5)  # the plant's cogging (12 slots, 8 poles)
     assert any(o == pytest.approx(48.0, abs=0.5) for o in orders)
     assert u["rms_nm"] > 3 * u["rms_filtered_nm"] > 0  # above the cut-off: ripple, belt, noise
     assert u["peaks_hz"] and all(p["rms_nm"] > 0 for p in u["peaks_hz"])
+    # the first fit's residual showed order 24 far above its neighbours: the fit took it in (--cogging auto)
+    assert ident.cogging_found == (24,) and ident.extra.cogging_orders == (24,)
+    cogging = report["extra_terms"]["cogging"]["24"]
+    assert cogging["found_in_residual"]
+    assert cogging["amplitude_nm"] == pytest.approx(run.drive.plant.cogging.amplitudes_nm[0], rel=0.15)
 
 
 def test_the_cogging_orders_as_extra_terms_recover_the_cogging(realistic_logs):
     fit_run, validation_run = realistic_logs
-    settings = IdentifySettings(extra=ExtraTerms(stroke_terms=6, cogging_orders=(24, 48)))
+    settings = IdentifySettings(extra=ExtraTerms(stroke_terms=6, cogging_orders=(24, 48)))  # given, not auto
     ident = identify([fit_run.path], NOMINAL, settings, validate=[validation_run.path])
     report = report_json(ident)
     cogging = report["extra_terms"]["cogging"]
@@ -105,3 +110,14 @@ def test_the_cogging_orders_as_extra_terms_recover_the_cogging(realistic_logs):
     assert cogging["24"]["phase_rad"] == pytest.approx(true.phases_rad[0], abs=0.15)
     assert abs(cogging["48"]["amplitude_nm"] - true.amplitudes_nm[1]) < 3 * cogging["48"]["std_nm"]
     assert report["unexplained"]["validation_over_floor"] < 1.0
+    assert not cogging["24"]["found_in_residual"]
+
+
+def test_without_the_extra_terms_the_report_shows_what_is_missing(realistic_logs):
+    """No stroke terms, no cogging: the fit is worse than the noise floor, and the report says where."""
+    fit_run, validation_run = realistic_logs
+    settings = IdentifySettings(extra=ExtraTerms(stroke_terms=0))
+    report = report_json(identify([fit_run.path], NOMINAL, settings, validate=[validation_run.path]))
+    assert report["unexplained"]["validation_over_floor"] > 1.5
+    assert report["extra_terms"] == {"stroke": None, "cogging": None}
+    assert report["unexplained"]["peaks_order"][0]["cycles_per_rev"] == pytest.approx(24.0, abs=0.5)
