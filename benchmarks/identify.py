@@ -139,8 +139,10 @@ def _print_table(r: dict) -> None:
     print(f"{'read (one topic)':28} {i['read']:>8.2f} {read_base} {ratio}")
     print(f"{'prepare (filter, masks)':28} {i['prepare']:>8.2f}")
     print(f"{'solve (offset + SQP)':28} {i['solve']:>8.2f}")
-    total_base = f"{base['read_s'] + i['prepare'] + i['solve']:>12.2f}" if base else f"{'–':>12}"
-    ratio = f"{(base['read_s'] + i['prepare'] + i['solve']) / i['total']:>6.1f}×" if base else ""
+    print(f"{'judge (errors, residuals)':28} {i.get('judge', 0.0):>8.2f}")
+    rest = i["prepare"] + i["solve"] + i.get("judge", 0.0)
+    total_base = f"{base['read_s'] + rest:>12.2f}" if base else f"{'–':>12}"
+    ratio = f"{(base['read_s'] + rest) / i['total']:>6.1f}×" if base else ""
     print(f"{'total':28} {i['total']:>8.2f} {total_base} {ratio}")
     print(
         f"{'the whole command':28} {i['process_s']:>8.2f}   (Python start-up, imports and writing the report)"

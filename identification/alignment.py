@@ -11,7 +11,7 @@ So the offset is estimated, not assumed: the force is taken δ later (interpolat
 signal, see :meth:`~axisflow.identification.preparation.PreparedLog.force_at`) and δ is the one that
 minimises the fit's residual sum of squares S(δ) over ±:data:`MAX_DELAY_S` (bounded Brent search; each
 step is one SQP solve with the same solver and the same extra terms, on at most
-:data:`SEARCH_SAMPLES` evenly chosen samples).
+:data:`SEARCH_SAMPLES` evenly chosen samples, started where the previous step ended).
 
 How well the log determines δ: S is a profile of the fit's objective, so near its minimum
 S(δ) ≈ S* + ½·S''·(δ − δ*)² and, as for any least-squares parameter, σ_δ² = 2·s²/S'' with
@@ -33,7 +33,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from ..model import AxisParams
-from .fit import FrictionFit
+from .fit import FitResult, FrictionFit
 from .preparation import Columns, PreparedLog, fit_samples
 from .uncertainty import effective_sample_size
 
@@ -98,11 +98,17 @@ def estimate_delay(
     )
 
     solved: dict[float, np.ndarray] = {}
+    last: list[FitResult] = []  # the previous solve: each next one starts there (δ moves it little)
 
     def residuals(delay_s: float) -> np.ndarray:
         if delay_s not in solved:
             force = np.concatenate([log.force_at(p, delay_s) for log, p in zip(logs, chosen, strict=True)])
-            solved[delay_s] = problem.solve(force).residuals
+            start = last[-1] if last else None
+            result = problem.solve(
+                force, start.values if start else None, start.extra_vector if start else None
+            )
+            last[:] = [result]
+            solved[delay_s] = result.residuals
         return solved[delay_s]
 
     def sum_of_squares(delay_s: float) -> float:

@@ -230,7 +230,8 @@ def identify(
         timing_s={
             "read": t_read - t0,
             "prepare": t_prepare - t_read,
-            "solve": t_end - t_prepare,
+            "solve": run.solve_s,
+            "judge": run.judge_s,
             "total": t_end - t0,
         },
     )
@@ -276,8 +277,13 @@ class _FitPass:
         self.logs, self.val_logs = logs, val_logs
         self.fit_keep, self.val_keep, self.parts = fit_keep, val_keep, parts
         self.stretch = covered_stretch(logs, parts)
+        self.solve_s = 0.0
+        """wall time of the offset searches and the fits [s]"""
+        self.judge_s = 0.0
+        """wall time of the errors and the residual analyses [s]"""
 
     def fit(self, extra: ExtraTerms) -> Identification:
+        t0 = time.perf_counter()
         s, nominal, logs, parts = self.settings, self.nominal, self.logs, self.parts
         columns = [extra.columns(log, self.stretch, nominal, s.preparation) for log in logs]
         val_columns = [extra.columns(log, self.stretch, nominal, s.preparation) for log in self.val_logs]
@@ -312,8 +318,11 @@ class _FitPass:
             validation_columns=tuple(val_columns),
             timing_s={},
         )
+        t1 = time.perf_counter()
         errors, source = _judge(ident, self.fit_keep, self.val_keep)
         residuals = _residuals(ident, self.fit_keep)
+        self.solve_s += t1 - t0
+        self.judge_s += time.perf_counter() - t1
         return dataclasses.replace(ident, errors=errors, residuals=residuals, validation_source=source)
 
 

@@ -11,14 +11,15 @@ samples) each {rms_nm, max_abs_nm, nrmse_pct, samples, rms_unfiltered_nm} — ``
 for a carriage joint —, ``unexplained`` {rms_nm, rms_filtered_nm, noise_floor_nm,
 noise_density_nm2_per_hz, floor_band_hz, fit_over_floor, validation_over_floor, peaks_hz
 [{frequency_hz, rms_nm, ratio}], peaks_order [{cycles_per_rev, rms_nm, ratio}], segments,
-order_segments}, ``solver`` {method, status, iterations, time_s}, ``timing_s`` {read, prepare, solve,
-total}, ``log`` {paths, topic, joint, joint_kind, samples, duration_s, truncated, stamp_jitter_s,
-window (null: whole logs, else {start_s, end_s, origin_ns}), drive (per log: what drove the axis, as
-its bridge recorded it; null if it did not)}, ``samples`` {total (grid points), used,
-fitted, stationary, saturated, trimmed, non_finite, missing, holes, longest_hole_s, near_holes},
-``velocity`` {used, logged, logged_lag_s}, ``uncertainty`` {method, samples, effective_samples,
-flagged}, ``torque_delay_s`` {value, estimated, estimate, std, resolvable, period}, ``preparation``
-(the filter and exclusion settings), ``warnings``.
+order_segments}, ``solver`` {method, status, iterations, time_s}, ``timing_s`` {read, prepare,
+solve (offset searches and fits), judge (errors and residual analyses), total}, ``log`` {paths,
+topic, joint, joint_kind, samples,
+duration_s, truncated, stamp_jitter_s, window (null: whole logs, else {start_s, end_s, origin_ns}),
+drive (per log: what drove the axis, as its bridge recorded it; null if it did not)}, ``samples`` {total
+(grid points), used, fitted, stationary, saturated, trimmed, non_finite, missing, holes, longest_hole_s,
+near_holes}, ``velocity`` {used, logged, logged_lag_s}, ``uncertainty`` {method, samples,
+effective_samples, flagged}, ``torque_delay_s`` {value, estimated, estimate, std, resolvable, period},
+``preparation`` (the filter and exclusion settings), ``warnings``.
 """
 
 from __future__ import annotations
@@ -300,7 +301,7 @@ def report_markdown(report: dict[str, Any]) -> str:
     lines += [
         "",
         f"Timing: read {t['read']:.2f} s, prepare {t['prepare']:.2f} s, solve {t['solve']:.2f} s, "
-        f"total {t['total']:.2f} s.",
+        f"judge {t.get('judge', 0.0):.2f} s, total {t['total']:.2f} s.",
     ]
     return "\n".join(lines) + "\n"
 

@@ -42,8 +42,8 @@ SEGMENT_S = 1.024
 :data:`MIN_SEGMENT_S`, until at least :data:`MIN_SEGMENTS` fit into the log's stretches"""
 MIN_SEGMENT_S = 0.256
 MIN_SEGMENTS = 8
-MAX_ANALYSED_S = 600.0
-"""the spectra average at most this much of the stretches [s] (in log order): ten minutes settle
+MAX_ANALYSED_S = 300.0
+"""the spectra average at most this much of the stretches [s] (in log order): five minutes settle
 any spectrum, and an hour-long log is not read a second time"""
 FLOOR_BAND = (0.2, 0.6)
 """the band of the noise-floor estimate, as fractions of the filter's cut-off"""
