@@ -7,6 +7,11 @@ tracks the same setpoints (from rest at 0.1 m to 0.7 m and back every 2 s, a rai
 model's feed-forward); the profiles take turns, ``--rounds`` times, and each keeps its fastest round (the
 least disturbed by whatever else runs on the machine). Goal (issue 21): the realistic profiles cost
 at most about twice the ideal one.
+
+``--warm-up S`` then runs the ``warm-up`` profile's drive on the same motion for S seconds of drive time
+and prints, once a minute, the lubricant's temperature and the true friction against its cold values
+(:meth:`~axisflow.acquisition.drives.sim_axis.SimulatedAxis.true_params`): how fast the plant drifts
+under continuous fast moves (peak 0.94 m/s).
 """
 
 from __future__ import annotations
@@ -28,6 +33,13 @@ GOAL_RATIO = 2.0
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--ticks", type=int, default=2000, help="ticks per round (default 2000)")
     parser.add_argument("--rounds", type=int, default=40, help="rounds per profile (default 40)")
+    parser.add_argument(
+        "--warm-up",
+        type=float,
+        default=0.0,
+        metavar="S",
+        help="then run the warm-up plant for S seconds of drive time and print its drift (default: no)",
+    )
 
 
 def _setpoints(n: int) -> list[Setpoint]:
@@ -83,6 +95,8 @@ def run(args: argparse.Namespace) -> int:
             for name in drives
         },
     }
+    if args.warm_up > 0:
+        result["warm_up"] = _warm_up(args.warm_up, setpoints if len(setpoints) == 2000 else _setpoints(2000))
     if args.json:
         print(json.dumps(result, indent=2))
         return 0
@@ -94,4 +108,40 @@ def run(args: argparse.Namespace) -> int:
             f"{r['max_tracking_error_mm']:16.3f} mm {r['samples_lost']:6d}"
         )
     print(f"goal: the realistic profiles within {GOAL_RATIO:g}× the ideal per tick")
+    if "warm_up" in result:
+        print(f"\nwarm-up plant, {args.warm_up:g} s of drive time (0.1 → 0.7 m and back every 2 s):")
+        print(f"{'minute':>6} {'T [°C]':>7} {'a1':>8} {'a2':>8} {'a3':>8}")
+        for row in result["warm_up"]:
+            print(
+                f"{row['minute']:6.0f} {row['temperature_c']:7.2f} {row['a1_change_pct']:+7.2f}% "
+                f"{row['a2_change_pct']:+7.2f}% {row['a3_change_pct']:+7.2f}%"
+            )
     return 0
+
+
+def _warm_up(seconds: float, period: list[Setpoint]) -> list[dict[str, float]]:
+    """The warm-up drive on ``period`` (2 s, repeated) for ``seconds``; the drift once a minute."""
+    nominal = default_params()
+    plant = load_profile("warm-up", nominal)
+    plant = dataclasses.replace(
+        plant, simulation=dataclasses.replace(plant.simulation, initial_position_m=0.1)
+    )
+    drive = SimulatedAxis(plant, nominal, 1_700_000_000_000_000_000)
+    cold = drive.true_params()
+    rows = []
+    ticks = round(seconds * 1000)
+    for k in range(ticks + 1):
+        if k % 60_000 == 0:
+            now = drive.true_params()
+            rows.append(
+                {
+                    "minute": k / 60_000,
+                    "temperature_c": drive.temperature_c,
+                    "a1_change_pct": (now.a1 / cold.a1 - 1) * 100,
+                    "a2_change_pct": (now.a2 / cold.a2 - 1) * 100,
+                    "a3_change_pct": (now.a3 / cold.a3 - 1) * 100,
+                }
+            )
+        drive.read()
+        drive.apply(period[k % len(period)])
+    return rows
