@@ -171,7 +171,9 @@ def filter_reach_s(cutoff_hz: float, rate_hz: float, order: int = 4, share: floa
     return middle / rate_hz
 
 
-MAX_VELOCITY_LAG_S = 0.05
+MAX_VELOCITY_LAG_S = 0.02
+LAG_SAMPLES = 100_000
+"""at most this many samples (evenly chosen) decide the lag: it is a property of the whole log"""
 
 
 def logged_velocity_lag_s(log: PreparedLog) -> float | None:
@@ -190,6 +192,7 @@ def logged_velocity_lag_s(log: PreparedLog) -> float | None:
     idx = idx[(idx >= reach) & (idx < n - reach)]
     if idx.size < 10 * reach:
         return None
+    idx = idx[:: max(1, idx.size // LAG_SAMPLES)]
     reference = log.velocity_m_s[idx]
     costs = []
     for lag in range(-reach, reach + 1):
