@@ -122,3 +122,42 @@ def test_the_belt_is_stiffest_near_the_drive_pulley():
 def test_a_mapping_with_both_axis_and_scale_is_refused():
     with pytest.raises(PlantError, match="exactly one of them"):
         plant_from_mapping({"scale": {"m": 1.0}, "axis": {}}, NOMINAL)
+
+
+def _documented() -> dict[str, dict[str, object]]:
+    """docs/plant.md's tables of file values, by the heading above them: ``| [section] key | value |``."""
+    import re
+    import tomllib
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[3] / "docs" / "plant.md").read_text("utf-8")
+    tables: dict[str, dict[str, object]] = {}
+    heading = ""
+    for line in text.splitlines():
+        if line.startswith("## "):
+            heading = line[3:].strip()
+        m = re.match(r"\| \[(\w+)\] (\w+) \| ([^|]+) \|", line)
+        if m:
+            section, key, value = m.groups()
+            tables.setdefault(heading, {})[f"{section}.{key}"] = tomllib.loads(f"v = {value.strip()}")["v"]
+    return tables
+
+
+def _own_values(resource: str) -> dict[str, object]:
+    """The values a packaged file gives itself (not those of its base), as ``section.key``."""
+    import tomllib
+    from importlib import resources
+
+    data = tomllib.loads(resources.files("axisflow.acquisition.drives").joinpath(resource).read_text("utf-8"))
+    return {f"{s}.{k}": v for s, table in data.items() if isinstance(table, dict) for k, v in table.items()}
+
+
+def test_the_docs_state_every_number_of_the_packaged_plant_files():
+    """docs/plant.md is checked against the files, so the files stay the one home of the numbers."""
+    docs = _documented()
+    ideal = _own_values(PROFILE_RESOURCES["ideal"])
+    scale = {k: v for k, v in ideal.items() if k.startswith("scale.")}
+    assert docs["The true axis (all profiles): `[scale]` of `plant_ideal.toml`"] == scale
+    assert docs["`ideal`"] == {k: v for k, v in ideal.items() if not k.startswith("scale.")}
+    assert docs["`realistic`"] == _own_values(PROFILE_RESOURCES["realistic"])
+    assert docs["`warm-up`"] == _own_values(PROFILE_RESOURCES["warm-up"])
