@@ -294,6 +294,31 @@ CASES = [
     ),
     case("bridge: bad key prefix", "bridge", "--sim", "--prefix", "a/*", says=("key prefix 'a/*'", "'*'")),
     case(
+        "demo: unknown plant profile", "demo", "--plant-profile", "tidy", says=("--plant-profile", "'tidy'")
+    ),
+    case(
+        "identify: a cogging order that is not a number",
+        "identify",
+        "still.mcap",
+        "--out",
+        "refit",
+        "--cogging",
+        "24,x",
+        says=("--cogging 24,x", "'x' is not a whole number of cycles per motor revolution"),
+        untouched=("refit",),
+    ),
+    case(
+        "identify: too many stroke terms",
+        "identify",
+        "still.mcap",
+        "--out",
+        "refit",
+        "--stroke-terms",
+        "20",
+        says=("stroke terms = 20", "0…12"),
+        untouched=("refit",),
+    ),
+    case(
         "bridge: invalid zenoh config",
         "bridge",
         "--sim",
