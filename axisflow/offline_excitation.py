@@ -16,7 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from .acquisition.bridge.move_queue import MoveQueue
+from .acquisition.bridge.move_queue import MoveQueue, QueuedMove
 from .acquisition.drives.plant import PlantConfig
 from .acquisition.drives.sim_axis import SimulatedAxis
 from .acquisition.logs.mcap_writer import Ros2McapWriter
@@ -86,7 +86,7 @@ def record_offline_excitation(
             )
         )
     settle = move_ticks(SETTLE_S)
-    queued = []
+    queued: list[QueuedMove] = []
     for cmd in commands:
         queued.append(queue.submit(cmd, settle if not queued else 0))
     end_tick = queued[-1].end_tick + settle

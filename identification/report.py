@@ -69,6 +69,7 @@ def report_json(ident: Identification) -> dict[str, Any]:
     delay = ident.delay
     grids = [log.signals.grid for log in logs]
     lags = [logged_velocity_lag_s(log) for log in logs]
+    known = [lag for lag in lags if lag is not None]
     out.update(
         {
             "solver": {
@@ -107,7 +108,7 @@ def report_json(ident: Identification) -> dict[str, Any]:
                 "used": "derivative of the zero-phase filtered position "
                 f"({ident.settings.preparation.cutoff_hz:g} Hz); the log's own velocity is not used",
                 "logged": all(log.signals.velocity_logged for log in logs),
-                "logged_lag_s": None if any(lag is None for lag in lags) else float(np.mean(lags)),
+                "logged_lag_s": float(np.mean(known)) if len(known) == len(lags) else None,
             },
             "uncertainty": {
                 "method": unc.method,

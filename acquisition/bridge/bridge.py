@@ -298,8 +298,9 @@ class Bridge:
             q = step.started
             self._status(MoveState.STARTED, q, f"started move {q.command.move_id}")
         self._setpoint_pub.put(step.setpoint.to_sample(self._stamp(), self.keys.axis, self.params).encode())
-        if self._drive_pub is not None and self.tick % DRIVE_INFO_PERIOD == 0:
-            info = dataclasses.replace(self.config.drive, stamp_ns=self._stamp(), axis=self.keys.axis)
+        drive = self.config.drive
+        if self._drive_pub is not None and drive is not None and self.tick % DRIVE_INFO_PERIOD == 0:
+            info = dataclasses.replace(drive, stamp_ns=self._stamp(), axis=self.keys.axis)
             self._drive_pub.put(info.encode())
         self.drive.apply(step.setpoint)
         self._send_statuses(STATUSES_PER_TICK)
