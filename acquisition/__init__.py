@@ -23,7 +23,8 @@ from typing import Any
 
 from .bridge.move_queue import MoveQueue
 from .drives.drive import Drive, Setpoint
-from .drives.sim_axis import PlantConfig, SimulatedAxis, load_plant
+from .drives.plant import PlantConfig, load_plant, load_profile
+from .drives.sim_axis import SimulatedAxis
 from .errors import (
     AcquisitionError,
     BridgeLostError,
@@ -135,6 +136,7 @@ __all__ = [
     "key_for_topic",
     "list_topics",
     "load_plant",
+    "load_profile",
     "read_joint_states",
     "read_messages",
     "recover",

@@ -38,6 +38,7 @@ from pathlib import Path
 
 from .acquisition import AxisKeys
 from .acquisition.bus.session import ZenohOptions, open_session
+from .acquisition.drives.plant import DEFAULT_PROFILE, load_profile
 from .excite import run_excitation
 from .experiment import CASES, LAWS
 from .identification.excitation import design_excitation
@@ -71,6 +72,8 @@ class DemoSettings:
     lookahead: int = DEFAULT_LOOKAHEAD
     lookahead_s: float = DEFAULT_LOOKAHEAD_S
     params_path: str | None = None
+    plant_profile: str = DEFAULT_PROFILE
+    """the simulated axis's packaged plant profile (ideal, realistic, warm-up)"""
 
 
 @dataclass
@@ -78,6 +81,8 @@ class DemoReport:
     out: Path
     tables: dict[str, Table2] = field(default_factory=dict)
     refit: dict = field(default_factory=dict)
+    plant: str = ""
+    """the simulated axis's plant, as its bridge described it"""
     wall_time_s: float = 0.0
     phases_s: dict[str, float] = field(default_factory=dict)
 
@@ -141,11 +146,17 @@ def run_demo(
     endpoint = f"tcp/127.0.0.1:{port}"
     children = _Children(out)
     params_args = ["--params", settings.params_path] if settings.params_path else []
+    plant = load_profile(settings.plant_profile, nominal)
+    report.plant = plant.describe()
     try:
-        progress(f"session folder {out}; bridge (simulated axis, --speed {settings.speed:g}) on {endpoint}")
-        bridge = children.start(
-            "bridge", "bridge", "--sim", "--speed", f"{settings.speed:g}", "--listen", endpoint, *params_args
+        progress(
+            f"session folder {out}; bridge (simulated axis, plant {report.plant}, "
+            f"--speed {settings.speed:g}) on {endpoint}"
         )
+        bridge = children.start(
+            "bridge", "bridge", "--sim", "--plant-profile", settings.plant_profile,
+            "--speed", f"{settings.speed:g}", "--listen", endpoint, *params_args,
+        )  # fmt: skip
         with open_session(ZenohOptions(connect=(endpoint,))) as session:
             keys = AxisKeys()
             # 1. excitation
@@ -271,6 +282,7 @@ def _summary_json(report: DemoReport, settings: DemoSettings) -> dict:
         "waypoints": settings.waypoints,
         "seed": settings.seed,
         "bridge_speed": settings.speed,
+        "plant": {"profile": settings.plant_profile, "description": report.plant},
         "solver": settings.solver,
         "wall_time_s": report.wall_time_s,
         "phases_s": report.phases_s,

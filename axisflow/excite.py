@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 import zenoh
 
 from .acquisition import AxisKeys, MoveCommand, MoveRejectedError, MoveState, MoveStatus
-from .acquisition.bus.axis_state import AxisState
+from .acquisition.bus.axis_state import AxisState, DriveWatch
 from .acquisition.bus.move_sender import BRIDGE_TIMEOUT_S, MoveSender
 from .identification.excitation import ExcitationPlan
 from .identification.signals import TimeWindow
@@ -26,6 +26,8 @@ from .model import AxisflowError, AxisParams, polynomial_law
 from .planner import Case, MoveProblem, solve_exact
 
 _SLACK_S = 60.0
+DRIVE_INFO_WAIT_S = 2.0
+"""how long the run waits at its end for the bridge's DriveInfo, if none has come yet [s]"""
 _SLOWEST_SPEED = 0.05
 """the waits assume the bridge runs at least this fraction of real time"""
 
@@ -39,6 +41,8 @@ class ExcitationReport:
     moves: list[MoveCommand] = field(default_factory=list)
     statuses: list[MoveStatus] = field(default_factory=list)
     wall_time_s: float = 0.0
+    drive: str | None = None
+    """what drove the axis, as its bridge said (the simulated axis's plant profile); None: it did not"""
 
     @property
     def drive_time_s(self) -> float:
@@ -51,6 +55,7 @@ class ExcitationReport:
             "moves": len(self.moves),
             "drive_time_s": self.drive_time_s,
             "wall_time_s": self.wall_time_s,
+            "drive": self.drive,
             "first_tick": self.statuses[0].start_tick if self.statuses else None,
             "last_tick": self.statuses[-1].end_tick if self.statuses else None,
         }
@@ -66,9 +71,10 @@ class ExcitationReport:
         return TimeWindow(-margin_s, end_s + margin_s, origin)
 
     def format(self) -> str:
+        drive = self.drive or "a drive that did not say what it is"
         return (
-            f"excitation on axis {self.axis}: {len(self.moves)} moves, {self.drive_time_s:.1f} s of drive "
-            f"time in {self.wall_time_s:.1f} s, around {self.center_m:.3f} m"
+            f"excitation on axis {self.axis} ({drive}): {len(self.moves)} moves, {self.drive_time_s:.1f} s "
+            f"of drive time in {self.wall_time_s:.1f} s, around {self.center_m:.3f} m"
         )
 
 
@@ -84,7 +90,11 @@ def run_excitation(
     say = progress or (lambda _line: None)
     report = ExcitationReport(keys.axis, plan.center_m)
     t0 = time.monotonic()
-    with MoveSender(session, keys) as sender, AxisState(session, keys, "setpoint") as setpoint:
+    with (
+        MoveSender(session, keys) as sender,
+        AxisState(session, keys, "setpoint") as setpoint,
+        DriveWatch(session, keys) as drive,
+    ):
         sender.require_bridge(BRIDGE_TIMEOUT_S)
         x_now = setpoint.wait(BRIDGE_TIMEOUT_S).position_m
         if abs(x_now - plan.center_m) > 1e-9:
@@ -106,5 +116,7 @@ def run_excitation(
             report.statuses.append(status)
             what = "move to the centre" if k <= offset else f"burst {k - offset}/{len(plan.bursts)}"
             say(f"  {what} done: ticks {status.start_tick}..{status.end_tick}")
+        info = drive.wait(DRIVE_INFO_WAIT_S)  # the bridge sends it once a second: long since here
+        report.drive = info.describe() if info is not None else None
     report.wall_time_s = time.monotonic() - t0
     return report

@@ -1804,6 +1804,9 @@ def run(args: argparse.Namespace) -> int:
             f"--keep {args.keep} is not empty: give a new folder (recordings are never overwritten)"
         )
     rows: list[dict[str, Any]] = []
+    plant = load_plant(None, default_params()).describe()  # what every bridge of the scenarios runs
+    if not args.json:
+        print(f"faults: the bridges drive the simulated axis, plant {plant}", file=sys.stderr, flush=True)
     with tempfile.TemporaryDirectory(prefix="axisflow-faults-") as tmp:
         base = Path(args.keep) if args.keep else Path(tmp)
         for name in names:
@@ -1813,7 +1816,8 @@ def run(args: argparse.Namespace) -> int:
                 held = "held" if all(o.passed for o in outcomes) else "FAILED"
                 print(f"{name}: {held} ({seconds:.0f} s)", file=sys.stderr, flush=True)
     if args.json:
-        print(json.dumps({"faults": rows, "all_held": all(r["passed"] for r in rows)}, indent=1, default=str))
+        summary = {"plant": plant, "faults": rows, "all_held": all(r["passed"] for r in rows)}
+        print(json.dumps(summary, indent=1, default=str))
     else:
         print_table(rows)
     return 0 if all(r["passed"] for r in rows) else 1

@@ -5,8 +5,9 @@ Steps:
 
 1. a synthetic one-hour log (``--hours``) of one axis, ``/axisflow/a0/state`` and ``setpoint``
    interleaved at 1 kHz, 7.2 M messages, measured torque from a "true" axis that differs from the
-   nominal one (acquisition/logs/synthetic_log.py; writing it is not timed; ``--log FILE`` keeps it between
-   runs);
+   nominal one — the true axis of the default (``ideal``) plant file, its ``[scale]`` factors on the
+   nominal parameters (acquisition/logs/synthetic_log.py; writing it is not timed; ``--log FILE`` keeps it
+   between runs);
 2. ``axisflow identify`` on it in a fresh process: its own stage timings (read, prepare, solve,
    total), the process's peak RSS, and how far the refit lands from the true parameters;
 3. the baseline, in another fresh process: reading the same topic with per-message CDR decoding
@@ -26,12 +27,12 @@ import tempfile
 import time
 from pathlib import Path
 
+from ..acquisition.drives.plant import load_plant
 from ..acquisition.logs.synthetic_log import SyntheticLogSpec, write_synthetic_log
 from ..model import default_params
 
 GOAL_TOTAL_S = 10.0
 GOAL_RSS_MB = 1024.0
-_TRUE_SCALE = {"m": 1.05, "a1": 1.12, "a2": 0.90, "a3": 1.20, "a4": 0.80}
 
 _IDENTIFY = """
 import json, resource, sys
@@ -71,12 +72,14 @@ def _child(code: str, *argv: str) -> subprocess.CompletedProcess:
 
 def run(args: argparse.Namespace) -> int:
     nominal = default_params()
-    true = nominal.replace(**{k: getattr(nominal, k) * f for k, f in _TRUE_SCALE.items()})
+    plant = load_plant(None, nominal)  # the default plant file: the one home of its [scale] factors
+    true = plant.axis
     spec = SyntheticLogSpec(duration_s=args.hours * 3600.0, params=nominal, true_params=true)
     result: dict[str, object] = {
         "hours": args.hours,
         "goal_total_s": GOAL_TOTAL_S,
         "goal_rss_mb": GOAL_RSS_MB,
+        "plant": plant.describe(),
     }
     with tempfile.TemporaryDirectory(prefix="axisflow-bench-identify-") as tmpdir:
         tmp = Path(tmpdir)
@@ -127,7 +130,7 @@ def _print_table(r: dict) -> None:
     i = r["identify"]
     print(
         f"identify benchmark: a {r['hours']:g} h synthetic 1 kHz log ({i['samples']} samples, "
-        f"{r['log_mb']:.0f} MB)"
+        f"{r['log_mb']:.0f} MB); true parameters: the plant {r['plant']}"
     )
     print(f"{'':28} {'seconds':>8} {'per-message':>12} {'ratio':>7}")
     base = r.get("per_message")
@@ -136,8 +139,10 @@ def _print_table(r: dict) -> None:
     print(f"{'read (one topic)':28} {i['read']:>8.2f} {read_base} {ratio}")
     print(f"{'prepare (filter, masks)':28} {i['prepare']:>8.2f}")
     print(f"{'solve (offset + SQP)':28} {i['solve']:>8.2f}")
-    total_base = f"{base['read_s'] + i['prepare'] + i['solve']:>12.2f}" if base else f"{'–':>12}"
-    ratio = f"{(base['read_s'] + i['prepare'] + i['solve']) / i['total']:>6.1f}×" if base else ""
+    print(f"{'judge (errors, residuals)':28} {i.get('judge', 0.0):>8.2f}")
+    rest = i["prepare"] + i["solve"] + i.get("judge", 0.0)
+    total_base = f"{base['read_s'] + rest:>12.2f}" if base else f"{'–':>12}"
+    ratio = f"{(base['read_s'] + rest) / i['total']:>6.1f}×" if base else ""
     print(f"{'total':28} {i['total']:>8.2f} {total_base} {ratio}")
     print(
         f"{'the whole command':28} {i['process_s']:>8.2f}   (Python start-up, imports and writing the report)"

@@ -3,11 +3,14 @@
 With the prepared samples (ẋ_k, ẍ_k, F_k: filtered, decimated; :mod:`.preparation`) and k_e the joint's
 effort per cart force (r/i_r for a motor joint), the residuals and the problem are
 
-    e_k(p) = k_e·(F_k − M_eq·ẍ_k − F_c(ẋ_k; a1, a2, a3, a4)),   F_c of :mod:`axisflow.model.friction`
+    e_k(p) = k_e·(F_k − M_eq·ẍ_k − F_c(ẋ_k; a1, a2, a3, a4) − X_k·β),   F_c of :mod:`axisflow.model.friction`
     min_p  ½·Σ_k (e_k/σ_e)²  s.t.  a1 … a4 ≥ 0,  M_eq > 0,
 
-over the parameters chosen with ``fit`` (the rest stay at their nominal values), σ_e the RMS of the
-measured effort (so the objective starts near 1). The variables are scaled, p_i = θ_i·|p_i,nominal|.
+over the parameters chosen with ``fit`` (the rest stay at their nominal values) and the coefficients β
+of any extra linear terms X (:mod:`.extra_terms`: friction along the stroke, cogging; unbounded), σ_e
+the RMS of the measured effort (so the objective starts near 1). The variables are scaled,
+p_i = θ_i·|p_i,nominal| (β by the terms' typical sizes); the solve starts from the nominal values, or
+from a previous result (a warm start: :func:`fit_window` over a sliding window).
 
 Solver: CasADi's ``sqpmethod`` (the paper's SQP) with qrqp for the QP steps and a **Gauss–Newton
 Hessian** JᵀJ/σ_e² supplied through ``hess_lag`` (the exact Hessian of this least-squares problem is
@@ -22,13 +25,14 @@ carries the Jacobian at the optimum for the uncertainty analysis.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..model import AxisParams, friction_expression, friction_force
+from .errors import IdentificationError
 from .preparation import FitSamples
-from .signals import IdentificationError
+from .uncertainty import Uncertainty, estimate_uncertainty
 
 PARAMETERS: tuple[str, ...] = ("M_eq", "a1", "a2", "a3", "a4")
 """what a refit may estimate, in report order"""
@@ -74,7 +78,24 @@ class FitResult:
     residuals: np.ndarray
     """e_k at the optimum [effort units: N·m or N]"""
     jacobian: np.ndarray
-    """∂e_k/∂p_i at the optimum, (n, len(fitted)), per unit of each parameter"""
+    """∂e_k/∂p_i at the optimum, (n, len(terms)), per unit of each parameter"""
+    extra: dict[str, float] = field(default_factory=dict)
+    """the extra terms' coefficients β, by name (in their columns' order)"""
+
+    @property
+    def terms(self) -> tuple[str, ...]:
+        """Everything estimated, in the Jacobian's column order: ``fitted``, then the extra terms."""
+        return self.fitted + tuple(self.extra)
+
+    @property
+    def estimates(self) -> dict[str, float]:
+        """The value of every term, by name."""
+        values = self.values.as_dict()
+        return {name: values[name] for name in self.fitted} | self.extra
+
+    @property
+    def extra_vector(self) -> np.ndarray:
+        return np.array(list(self.extra.values()), dtype=float)
 
     @property
     def rms(self) -> float:
@@ -104,18 +125,32 @@ class FrictionFit:
         nominal: AxisParams,
         fit: tuple[str, ...] = PARAMETERS,
         max_iter: int = DEFAULT_MAX_ITER,
+        extra: np.ndarray | None = None,
+        extra_names: tuple[str, ...] = (),
+        extra_scales: tuple[float, ...] = (),
     ) -> None:
+        """``extra``: (n, p) columns of extra linear terms (cart force per unit of coefficient), named
+        ``extra_names``, of typical sizes ``extra_scales``."""
         import casadi as ca  # here, not at import: reading logs and designing excitations need none
 
         self.names = check_fit_names(fit)
         self.initial = FrictionValues.of(nominal)
+        n_samples = int(np.size(velocity_m_s))
+        columns = np.zeros((n_samples, 0)) if extra is None else np.asarray(extra, dtype=float)
+        if columns.shape != (n_samples, len(extra_names)) or len(extra_scales) != len(extra_names):
+            raise IdentificationError(
+                f"extra terms: {columns.shape} columns for {n_samples} samples and {len(extra_names)} names"
+            )
+        self.extra_names = tuple(extra_names)
         start = self.initial.as_dict()
-        self._scale = np.array([max(abs(start[n]), 1e-3) for n in self.names])
-        theta = ca.MX.sym("theta", len(self.names))
+        self._scale = np.array(
+            [max(abs(start[n]), 1e-3) for n in self.names] + list(extra_scales), dtype=float
+        )
+        n_vars = len(self.names) + len(self.extra_names)
+        theta = ca.MX.sym("theta", n_vars)
         value = {n: start[n] for n in PARAMETERS}
         for i, n in enumerate(self.names):
             value[n] = theta[i] * self._scale[i]
-        n_samples = int(np.size(velocity_m_s))
         force = ca.MX.sym("force", n_samples)
         sigma = ca.MX.sym("sigma")
         v, a = ca.DM(velocity_m_s), ca.DM(acceleration_m_s2)
@@ -123,6 +158,9 @@ class FrictionFit:
         k = effort_per_force
         friction = friction_expression(v, sign_v, value["a1"], value["a2"], value["a3"], value["a4"], ca.atan)
         residual = k * (force - value["M_eq"] * a - friction)
+        if self.extra_names:
+            beta = theta[len(self.names) :] * ca.DM(self._scale[len(self.names) :])
+            residual = residual - k * ca.mtimes(ca.DM(columns), beta)
         weight = 1.0 / (sigma * sigma * n_samples)
         jac = ca.jacobian(residual, theta)
         lam_f = ca.MX.sym("lam_f")
@@ -152,20 +190,34 @@ class FrictionFit:
             },
         )
         self._evaluate = ca.Function("residual_and_jacobian", [theta, force], [residual, jac])
-        self._lower = np.array([1e-6 if name == "M_eq" else 0.0 for name in self.names])
+        self._lower = np.array(
+            [1e-6 if name == "M_eq" else 0.0 for name in self.names] + [-np.inf] * len(self.extra_names)
+        )
         self._k = k
 
-    def solve(self, force_n: np.ndarray) -> FitResult:
-        """Fit the measured cart force ``force_n`` [N] (one value per sample of the kinematics)."""
+    def solve(
+        self, force_n: np.ndarray, start: FrictionValues | None = None, start_extra: np.ndarray | None = None
+    ) -> FitResult:
+        """Fit the measured cart force ``force_n`` [N] (one value per sample of the kinematics), starting
+        from the nominal values (β = 0) or from ``start`` (and ``start_extra``): a warm start."""
         sigma = float(np.sqrt(np.mean((self._k * np.asarray(force_n)) ** 2))) or 1.0
+        first = (start or self.initial).as_dict()
+        beta0 = (
+            np.zeros(len(self.extra_names)) if start_extra is None else np.asarray(start_extra, dtype=float)
+        )
+        x0 = np.r_[[first[n] for n in self.names], beta0] / self._scale
         t0 = time.perf_counter()
-        solution = self._solver(x0=np.ones(len(self.names)), lbx=self._lower, p=np.r_[force_n, sigma])
+        solution = self._solver(x0=x0, lbx=self._lower, p=np.r_[force_n, sigma])
         elapsed = time.perf_counter() - t0
         stats = self._solver.stats()
         theta_opt = np.array(solution["x"]).ravel()
         found = self.initial.as_dict()
         for i, name in enumerate(self.names):
             found[name] = float(theta_opt[i] * self._scale[i])
+        offset = len(self.names)
+        extra = {
+            n: float(theta_opt[offset + j] * self._scale[offset + j]) for j, n in enumerate(self.extra_names)
+        }
         r_opt, j_opt = self._evaluate(theta_opt, force_n)
         residuals, jac_theta = np.array(r_opt).ravel(), np.array(j_opt)
         status = str(stats.get("return_status", "unknown"))
@@ -186,6 +238,7 @@ class FrictionFit:
             solve_time_s=elapsed,
             residuals=residuals,
             jacobian=jac_theta / self._scale,  # per unit of each parameter, not of θ
+            extra=extra,
         )
 
 
@@ -200,3 +253,69 @@ def fit_parameters(
         samples.velocity_m_s, samples.acceleration_m_s2, samples.effort_per_force, nominal, fit, max_iter
     )
     return problem.solve(samples.force_n)
+
+
+@dataclass(frozen=True, eq=False)
+class WindowFit:
+    """One fit over a window of samples: what ``identify`` does once over whole logs, and what an
+    adaptive node does every few seconds over a sliding window (warm-started from the last one)."""
+
+    result: FitResult
+    uncertainty: Uncertainty
+
+    @property
+    def success(self) -> bool:
+        return self.result.success
+
+    @property
+    def values(self) -> FrictionValues:
+        return self.result.values
+
+    @property
+    def std(self) -> dict[str, float]:
+        """σ of every estimated term, by name."""
+        return self.uncertainty.std
+
+    @property
+    def samples(self) -> int:
+        """Samples the fit used."""
+        return int(self.result.residuals.size)
+
+    @property
+    def rms(self) -> float:
+        """RMS of the fit's residuals (effort units)."""
+        return self.result.rms
+
+
+def fit_window(
+    samples: FitSamples,
+    nominal: AxisParams,
+    fit: tuple[str, ...] = PARAMETERS,
+    start: FitResult | None = None,
+    extra_names: tuple[str, ...] = (),
+    extra_scales: tuple[float, ...] = (),
+    max_iter: int = DEFAULT_MAX_ITER,
+) -> WindowFit:
+    """Fit ``fit`` (and the extra terms of ``samples.extra``, named ``extra_names``) over the window
+    ``samples``, from the nominal values or warm-started from a previous ``start``, with σ and
+    correlations (:mod:`.uncertainty`)."""
+    problem = FrictionFit(
+        samples.velocity_m_s,
+        samples.acceleration_m_s2,
+        samples.effort_per_force,
+        nominal,
+        fit,
+        max_iter,
+        samples.extra,
+        extra_names,
+        extra_scales,
+    )
+    warm = start is not None and start.fitted == problem.names and tuple(start.extra) == problem.extra_names
+    result = problem.solve(
+        samples.force_n,
+        start.values if warm and start is not None else None,
+        start.extra_vector if warm and start is not None else None,
+    )
+    estimates = result.estimates
+    uncertainty = estimate_uncertainty(result.terms, estimates, result.jacobian, result.residuals)
+    return WindowFit(result, uncertainty)

@@ -17,19 +17,29 @@ stationary samples, decimation.
    the drive's effort is at its limit (``saturation_fraction`` of tau_max: a saturated drive does not
    track, and its torque steps are sharper than the filter), and samples that were not finite in the
    log.
+   **Holes** (samples missing from the log, filled by interpolation on the grid, :mod:`.signals`): no
+   filter output or derivative that a hole touches is fitted. The filter's reach is measured, not
+   assumed: :func:`filter_reach_s` is the half-width of the window holding 99 % of the impulse
+   response (by absolute area) of the acceleration's chain (zero-phase filter, two central
+   differences) — 0.13 s at 15 Hz — and that much is left out on both sides of every hole (and of
+   every non-finite sample), counted as ``near_holes``.
 4. **Decimated** to ``fit_rate_hz`` for the fit (the filter has removed everything above the cut-off:
    the decimated samples carry the same information, and neighbouring residuals are less correlated).
 """
 
 from __future__ import annotations
 
+import functools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 from scipy.signal import butter, sosfiltfilt
 
-from .signals import IdentificationError, JointSignals
+from .errors import IdentificationError
+from .signals import JointSignals
 
 MIN_FIT_SAMPLES = 200
 
@@ -75,11 +85,17 @@ class PreparedLog:
     """filtered force [N] (the raw one is ``signals.force_n``)"""
     usable: np.ndarray
     """True for samples inside the trimmed span, moving, unsaturated, finite"""
+    moving: np.ndarray
+    """True for samples inside the trimmed span, moving and unsaturated (holes not left out: the
+    stretches a spectrum of the residual may use)"""
     trimmed: int
     stationary: int
     """samples left out as stationary (with their guard), inside the trimmed span"""
     saturated: int
     """samples left out as saturated (with their guard), inside the trimmed span and moving"""
+    near_holes: int = 0
+    """samples left out because a filter output or derivative there reaches a hole (or a non-finite
+    sample), inside the trimmed span and not already left out as stationary or saturated"""
 
     def force_at(self, indices: np.ndarray, delay_s: float = 0.0) -> np.ndarray:
         """The filtered force at samples ``indices``, taken ``delay_s`` later (interpolated): a drive
@@ -118,8 +134,10 @@ def prepare(signals: JointSignals, settings: PreparationSettings, effort_limit: 
     still = _dilate(np.abs(v) < settings.stationary_speed_m_s, guard)
     effort = np.abs(signals.force_n * signals.effort_per_force)
     saturated = _dilate(effort >= settings.saturation_fraction * effort_limit, guard) & ~still
-    not_finite = _dilate(~signals.finite, guard)
-    usable = inside & ~still & ~saturated & ~not_finite
+    reach = round(filter_reach_s(settings.cutoff_hz, rate, settings.order) * rate)
+    holes = _dilate(~signals.finite | ~signals.observed, reach) & ~still & ~saturated
+    moving = inside & ~still & ~saturated
+    usable = moving & ~holes
     return PreparedLog(
         signals=signals,
         position_m=x,
@@ -127,10 +145,68 @@ def prepare(signals: JointSignals, settings: PreparationSettings, effort_limit: 
         acceleration_m_s2=a,
         force_n=force,
         usable=usable,
+        moving=moving,
         trimmed=int(np.count_nonzero(~inside)),
         stationary=int(np.count_nonzero(inside & still)),
         saturated=int(np.count_nonzero(inside & saturated)),
+        near_holes=int(np.count_nonzero(inside & holes)),
     )
+
+
+@functools.lru_cache(maxsize=16)
+def filter_reach_s(cutoff_hz: float, rate_hz: float, order: int = 4, share: float = 0.99) -> float:
+    """Half-width [s] of the window around a sample that holds ``share`` of the absolute impulse
+    response of the acceleration estimate (zero-phase Butterworth, then two central differences): how
+    far a hole's filled values reach into the fitted signals."""
+    n = 2 * round(8.0 * rate_hz / cutoff_hz) + 1
+    impulse = np.zeros(n)
+    impulse[n // 2] = 1.0
+    sos = butter(order, cutoff_hz, fs=rate_hz, output="sos")
+    response = np.abs(np.gradient(np.gradient(sosfiltfilt(sos, impulse, padlen=0))))
+    total = float(response.sum())
+    middle = n // 2
+    for half in range(middle + 1):
+        if response[middle - half : middle + half + 1].sum() >= share * total:
+            return half / rate_hz
+    return middle / rate_hz
+
+
+MAX_VELOCITY_LAG_S = 0.02
+LAG_SAMPLES = 100_000
+"""at most this many samples (evenly chosen) decide the lag: it is a property of the whole log"""
+
+
+def logged_velocity_lag_s(log: PreparedLog) -> float | None:
+    """How far the log's own velocity lags the derivative of the filtered position [s] (a drive's
+    low-passed estimate lags by about 1/(2π·f_c)); None for a log without velocities. The lag is the
+    shift that brings the two closest (least mean square difference over the moving samples where both
+    exist, ±:data:`MAX_VELOCITY_LAG_S`, refined by a parabola through the best three shifts)."""
+    logged = log.signals.velocity_m_s
+    valid = np.isfinite(logged)
+    if not log.signals.velocity_logged:
+        return None
+    rate = log.signals.rate_hz
+    reach = round(MAX_VELOCITY_LAG_S * rate)
+    n = logged.size
+    idx = np.flatnonzero(log.moving & valid)
+    idx = idx[(idx >= reach) & (idx < n - reach)]
+    if idx.size < 10 * reach:
+        return None
+    idx = idx[:: max(1, idx.size // LAG_SAMPLES)]
+    reference = log.velocity_m_s[idx]
+    costs = []
+    for lag in range(-reach, reach + 1):
+        both = valid[idx + lag]
+        costs.append(float(np.mean((logged[idx + lag][both] - reference[both]) ** 2)))
+    scores = np.array(costs)
+    best = int(np.argmin(scores))
+    shift = float(best - reach)
+    if 0 < best < scores.size - 1:
+        left, middle, right = scores[best - 1 : best + 2]
+        curvature = left - 2.0 * middle + right
+        if curvature > 0.0:
+            shift += 0.5 * (left - right) / curvature
+    return shift / rate
 
 
 def _dilate(mask: np.ndarray, width: int) -> np.ndarray:
@@ -143,12 +219,15 @@ def _dilate(mask: np.ndarray, width: int) -> np.ndarray:
 
 @dataclass(frozen=True, eq=False)
 class FitSamples:
-    """The samples handed to the fit: filtered kinematics and force, decimated, from every log."""
+    """The samples handed to the fit: filtered kinematics and force, decimated, from every log; and the
+    columns of any extra linear terms (:mod:`.extra_terms`) at the same samples."""
 
     velocity_m_s: np.ndarray
     acceleration_m_s2: np.ndarray
     force_n: np.ndarray
     effort_per_force: float
+    extra: np.ndarray | None = None
+    """(n, p): cart force [N] per unit of each extra coefficient (None: no extra terms)"""
 
     def __len__(self) -> int:
         return int(self.velocity_m_s.size)
@@ -168,8 +247,20 @@ def fit_indices(
     return parts
 
 
-def fit_samples(logs: list[PreparedLog], parts: list[np.ndarray], delay_s: float = 0.0) -> FitSamples:
-    """Concatenate the samples ``parts[i]`` of each log, the force taken ``delay_s`` later."""
+class Columns(Protocol):
+    """The columns of extra linear terms of one log (:class:`~.extra_terms.TermColumns`)."""
+
+    def at(self, idx: np.ndarray) -> np.ndarray: ...
+
+
+def fit_samples(
+    logs: list[PreparedLog],
+    parts: list[np.ndarray],
+    delay_s: float = 0.0,
+    extra: Sequence[Columns] | None = None,
+) -> FitSamples:
+    """Concatenate the samples ``parts[i]`` of each log, the force taken ``delay_s`` later (and the
+    extra terms' columns ``extra[i]`` at the same samples)."""
     scales = {log.signals.effort_per_force for log in logs}
     if len(scales) != 1:
         raise IdentificationError("the logs mix motor and carriage joints: fit one kind at a time")
@@ -180,4 +271,5 @@ def fit_samples(logs: list[PreparedLog], parts: list[np.ndarray], delay_s: float
         ),
         force_n=np.concatenate([log.force_at(p, delay_s) for log, p in zip(logs, parts, strict=True)]),
         effort_per_force=scales.pop(),
+        extra=None if extra is None else np.concatenate([c.at(p) for c, p in zip(extra, parts, strict=True)]),
     )

@@ -1,20 +1,29 @@
 """A refit from logs, end to end: read, prepare, align, fit, judge — the result object of ``identify``.
 
-:func:`identify` reads the joint of every log (:mod:`.signals`), prepares it (:mod:`.preparation`),
-estimates the torque/position time offset unless it is given (:mod:`.alignment`), fits the chosen
-parameters by SQP (:mod:`.fit`), estimates their uncertainty (:mod:`.uncertainty`), and measures the
+:func:`identify` reads the joint of every log (:mod:`.signals`: on the drive's sampling grid, holes
+counted), prepares it (:mod:`.preparation`: filtered, differentiated, what holes, stops and saturation
+touch left out), builds the columns of the extra terms (:mod:`.extra_terms`: Coulomb friction along the
+stroke by default, cogging orders if asked), estimates the torque/position time offset unless it is
+given (:mod:`.alignment`, with its σ, or "not resolvable"), fits eq. (1)'s chosen parameters and the
+extra terms by SQP (:func:`.fit.fit_window`, with σ and correlations), and judges the result: the
 effort error of the refit and of the nominal parameters side by side, on the fitted samples and on
-validation samples: a separate log (``validate``) or the last ``holdout`` fraction of each log, which
-is then left out of the fit.
+validation samples (a separate log, ``validate``, or the last ``holdout`` fraction of each log, then
+left out of the fit), and what the model leaves unexplained (:mod:`.residuals`: the noise floor, the
+residual's peaks in Hz and in cycles per motor revolution). With ``--cogging auto`` (the default), a
+residual peak that stands far out at a whole number of cycles per motor revolution is cogging: the
+fit is done again with those orders taken in (:func:`auto_cogging_orders`), and the report says so.
 
 Errors are measured minus model effort at every usable sample (1 kHz, not decimated), both through the
 same zero-phase filter as the fit (:mod:`.preparation`): a drive's torque carries content above the
 filter's cut-off (its position loop acting on encoder steps) that no rigid-body model predicts; the
-RMS of the unfiltered error is reported beside it.
+RMS of the unfiltered error is reported beside it. The velocity the model uses is always the
+derivative of the zero-phase filtered position; a logged velocity (a drive's own filtered estimate)
+is not used, and its lag behind that derivative is reported.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Sequence
@@ -25,14 +34,19 @@ import numpy as np
 
 from ..acquisition.wire.keys import AxisKeys, topic_for_key
 from ..model import AxisParams
-from .alignment import estimate_delay
-from .fit import PARAMETERS, FitResult, FrictionValues, check_fit_names, fit_parameters
+from .alignment import DelayEstimate, estimate_delay
+from .errors import IdentificationError
+from .extra_terms import ExtraTerms, TermColumns, covered_stretch
+from .fit import PARAMETERS, FitResult, FrictionValues, WindowFit, check_fit_names, fit_window
 from .preparation import PreparationSettings, PreparedLog, fit_indices, fit_samples, prepare
-from .signals import IdentificationError, JointKind, TimeWindow, joint_kind, load_joint
-from .uncertainty import Uncertainty, estimate_uncertainty
+from .residuals import ResidualAnalysis, analyse_residuals, analysed_span
+from .signals import JointKind, TimeWindow, joint_kind, load_joint
+from .uncertainty import Uncertainty
 
 DEFAULT_TOPIC = topic_for_key(AxisKeys().state)
 DEFAULT_JOINT = "motor"
+DEFAULT_STROKE_TERMS = 6
+"""Legendre terms of the Coulomb friction along the stroke a refit takes in by default"""
 
 
 @dataclass(frozen=True)
@@ -49,6 +63,9 @@ class IdentifySettings:
     """the last fraction of each log kept for validation (0: none)"""
     window: TimeWindow = field(default_factory=TimeWindow)
     """the part of each fitted log to use (default: all of it; validation logs are used whole)"""
+    extra: ExtraTerms = field(default_factory=lambda: ExtraTerms(DEFAULT_STROKE_TERMS, auto_cogging=True))
+    """terms beyond eq. (1): friction along the stroke, cogging (by default the orders the residual
+    shows: :func:`auto_cogging_orders`)"""
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "fit", check_fit_names(tuple(self.fit)))
@@ -89,25 +106,68 @@ class Identification:
     params: AxisParams
     """the nominal parameters with the refit ones (M_eq through the cart mass m)"""
     logs: tuple[PreparedLog, ...]
-    fit: FitResult
-    uncertainty: Uncertainty
+    window_fit: WindowFit
+    delay: DelayEstimate | None
+    """the offset search (None: the offset was given)"""
     delay_s: float
-    delay_estimated: bool
+    """the torque/position offset the fit used [s]"""
+    extra: ExtraTerms
+    """the extra terms fitted (with any cogging orders the residual showed, ``--cogging auto``)"""
+    stretch_m: tuple[float, float]
+    """the stretch of the stroke the fitted samples cover [m] (the extra stroke terms' span)"""
+    columns: tuple[TermColumns, ...]
+    """per log, the extra terms' columns (cart force per unit of coefficient)"""
     errors: dict[str, ErrorStats]
     """'fit', 'fit_nominal' and, with validation, 'validation', 'validation_nominal'"""
+    residuals: ResidualAnalysis
     validation_source: str
     validation_logs: tuple[PreparedLog, ...]
+    validation_columns: tuple[TermColumns, ...]
     timing_s: dict[str, float]
+    cogging_found: tuple[int, ...] = ()
+    """cogging orders the first pass's residual showed and the fit then took in (``--cogging auto``)"""
+
+    @property
+    def fit(self) -> FitResult:
+        return self.window_fit.result
+
+    @property
+    def uncertainty(self) -> Uncertainty:
+        return self.window_fit.uncertainty
+
+    @property
+    def delay_estimated(self) -> bool:
+        return self.delay is not None
 
     @property
     def kind(self) -> JointKind:
         return self.logs[0].signals.kind
 
+    def model_force(
+        self, log: PreparedLog, columns: TermColumns, nominal: bool = False, idx: np.ndarray | None = None
+    ) -> np.ndarray:
+        """The model's cart force [N] at the samples ``idx`` of ``log`` (None: all): eq. (1) with the
+        refit (or nominal) values, plus the extra terms (the refit's; none for the nominal model)."""
+        values = self.fit.initial if nominal else self.fit.values
+        v, a = (
+            (log.velocity_m_s, log.acceleration_m_s2)
+            if idx is None
+            else (
+                log.velocity_m_s[idx],
+                log.acceleration_m_s2[idx],
+            )
+        )
+        force = values.force_n(v, a)
+        if nominal or not self.fit.extra:
+            return force
+        return force + columns.force(self.fit.extra_vector, idx)
+
     def traces(self, validation: bool = False) -> list[EffortTrace]:
         """Per log, measured and model effort over time (the paper's Fig. 2 data)."""
         logs = self.validation_logs if validation else self.logs
+        columns = self.validation_columns if validation else self.columns
         out = []
-        for log in logs:
+        for log, cols in zip(logs, columns, strict=True):
             k = log.signals.effort_per_force
             everything = np.arange(len(log.signals.t_s))
             out.append(
@@ -115,8 +175,8 @@ class Identification:
                     source=log.signals.source,
                     t_s=log.signals.t_s,
                     measured=k * log.force_at(everything, self.delay_s),
-                    refit=k * self.fit.values.force_n(log.velocity_m_s, log.acceleration_m_s2),
-                    nominal=k * self.fit.initial.force_n(log.velocity_m_s, log.acceleration_m_s2),
+                    refit=k * self.model_force(log, cols),
+                    nominal=k * self.model_force(log, cols, nominal=True),
                     usable=log.usable,
                     unit=log.signals.kind.effort_unit,
                 )
@@ -158,52 +218,161 @@ def identify(
     fit_keep, val_keep = _split(logs, s.holdout)
     parts = fit_indices(logs, s.preparation.fit_rate_hz, fit_keep)
     t_prepare = time.perf_counter()
-    delay = s.torque_delay_s
-    if delay is None:
-        delay = estimate_delay(logs, parts, nominal, s.fit)
-    samples = fit_samples(logs, parts, delay)
-    result = fit_parameters(samples, nominal, s.fit)
-    if not result.success:
-        raise IdentificationError(
-            f"the SQP did not converge ({result.status}, {result.iterations} iterations)"
-        )
-    uncertainty = estimate_uncertainty(
-        result.fitted, result.values.as_dict(), result.jacobian, result.residuals
-    )
-    t_solve = time.perf_counter()
-    errors = {
-        "fit": error_stats(result.values, logs, fit_keep, delay),
-        "fit_nominal": error_stats(result.initial, logs, fit_keep, delay),
-    }
-    source = ""
-    if val_logs:
-        errors["validation"] = error_stats(result.values, val_logs, None, delay)
-        errors["validation_nominal"] = error_stats(result.initial, val_logs, None, delay)
-        source = ", ".join(str(p) for p in validate)
-    elif s.holdout:
-        errors["validation"] = error_stats(result.values, logs, val_keep, delay)
-        errors["validation_nominal"] = error_stats(result.initial, logs, val_keep, delay)
-        source = f"the last {s.holdout:.0%} of each log (held out of the fit)"
+    run = _FitPass(s, nominal, logs, val_logs, fit_keep, val_keep, parts)
+    ident = run.fit(s.extra)
+    found = auto_cogging_orders(ident.residuals, ident.extra) if s.extra.auto_cogging else ()
+    if found:
+        orders = tuple(sorted(ident.extra.cogging_orders + found))
+        ident = run.fit(dataclasses.replace(ident.extra, cogging_orders=orders))
     t_end = time.perf_counter()
-    return Identification(
-        settings=s,
-        nominal=nominal,
-        params=refit_params(nominal, result.values, result.fitted),
-        logs=tuple(logs),
-        fit=result,
-        uncertainty=uncertainty,
-        delay_s=delay,
-        delay_estimated=s.torque_delay_s is None,
-        errors=errors,
-        validation_source=source,
-        validation_logs=tuple(val_logs),
+    return dataclasses.replace(
+        ident,
+        cogging_found=found,
         timing_s={
             "read": t_read - t0,
             "prepare": t_prepare - t_read,
-            "solve": t_solve - t_prepare,
+            "solve": run.solve_s,
+            "judge": run.judge_s,
             "total": t_end - t0,
         },
     )
+
+
+AUTO_COGGING_RATIO = 20.0
+"""a residual peak at a whole number of cycles per motor revolution this many times above its
+neighbours is cogging (or torque ripple) the fit takes in (``--cogging auto``)"""
+AUTO_COGGING_MAX = 4
+
+
+def auto_cogging_orders(residuals: ResidualAnalysis, extra: ExtraTerms) -> tuple[int, ...]:
+    """The orders of the residual's angle-domain peaks that stand :data:`AUTO_COGGING_RATIO` above
+    their neighbours at a whole number of cycles per revolution (±0.25) and are not fitted yet."""
+    found: list[int] = []
+    for peak in residuals.peaks_order:
+        order = round(peak.frequency)
+        whole = abs(peak.frequency - order) <= 0.25
+        if (
+            whole
+            and peak.ratio >= AUTO_COGGING_RATIO
+            and order not in extra.cogging_orders
+            and order not in found
+        ):
+            found.append(order)
+    return tuple(found[:AUTO_COGGING_MAX])
+
+
+class _FitPass:
+    """One fit of prepared logs with a set of extra terms: columns, the offset, the SQP, the judgement."""
+
+    def __init__(
+        self,
+        settings: IdentifySettings,
+        nominal: AxisParams,
+        logs: list[PreparedLog],
+        val_logs: list[PreparedLog],
+        fit_keep: list[np.ndarray] | None,
+        val_keep: list[np.ndarray] | None,
+        parts: list[np.ndarray],
+    ) -> None:
+        self.settings, self.nominal = settings, nominal
+        self.logs, self.val_logs = logs, val_logs
+        self.fit_keep, self.val_keep, self.parts = fit_keep, val_keep, parts
+        self.stretch = covered_stretch(logs, parts)
+        self.solve_s = 0.0
+        """wall time of the offset searches and the fits [s]"""
+        self.judge_s = 0.0
+        """wall time of the errors and the residual analyses [s]"""
+
+    def fit(self, extra: ExtraTerms) -> Identification:
+        t0 = time.perf_counter()
+        s, nominal, logs, parts = self.settings, self.nominal, self.logs, self.parts
+        columns = [extra.columns(log, self.stretch, nominal, s.preparation) for log in logs]
+        val_columns = [extra.columns(log, self.stretch, nominal, s.preparation) for log in self.val_logs]
+        names, scales = extra.names, extra.scales(nominal)
+        delay = None
+        if s.torque_delay_s is None:
+            delay = estimate_delay(logs, parts, nominal, s.fit, columns, names, scales)
+        delay_s = delay.value_s if delay is not None else s.torque_delay_s
+        assert delay_s is not None
+        samples = fit_samples(logs, parts, delay_s, columns)
+        window_fit = fit_window(samples, nominal, s.fit, extra_names=names, extra_scales=scales)
+        if not window_fit.success:
+            result = window_fit.result
+            raise IdentificationError(
+                f"the SQP did not converge ({result.status}, {result.iterations} iterations)"
+            )
+        ident = Identification(
+            settings=s,
+            nominal=nominal,
+            params=refit_params(nominal, window_fit.values, window_fit.result.fitted),
+            logs=tuple(logs),
+            window_fit=window_fit,
+            delay=delay,
+            delay_s=delay_s,
+            extra=extra,
+            stretch_m=self.stretch,
+            columns=tuple(columns),
+            errors={},
+            residuals=_placeholder_residuals(),
+            validation_source="",
+            validation_logs=tuple(self.val_logs),
+            validation_columns=tuple(val_columns),
+            timing_s={},
+        )
+        t1 = time.perf_counter()
+        errors, source = _judge(ident, self.fit_keep, self.val_keep)
+        residuals = _residuals(ident, self.fit_keep)
+        self.solve_s += t1 - t0
+        self.judge_s += time.perf_counter() - t1
+        return dataclasses.replace(ident, errors=errors, residuals=residuals, validation_source=source)
+
+
+def _judge(
+    ident: Identification, fit_keep: list[np.ndarray] | None, val_keep: list[np.ndarray] | None
+) -> tuple[dict[str, ErrorStats], str]:
+    """The effort errors of the refit and of the nominal parameters, on the fit's samples and on the
+    validation samples; and where those came from."""
+    logs, columns = list(ident.logs), list(ident.columns)
+    errors = {
+        "fit": error_stats(ident, logs, columns, fit_keep),
+        "fit_nominal": error_stats(ident, logs, columns, fit_keep, nominal=True),
+    }
+    source = ""
+    if ident.validation_logs:
+        val_logs, val_cols = list(ident.validation_logs), list(ident.validation_columns)
+        errors["validation"] = error_stats(ident, val_logs, val_cols, None)
+        errors["validation_nominal"] = error_stats(ident, val_logs, val_cols, None, nominal=True)
+        source = ", ".join(log.signals.source for log in ident.validation_logs)
+    elif ident.settings.holdout:
+        errors["validation"] = error_stats(ident, logs, columns, val_keep)
+        errors["validation_nominal"] = error_stats(ident, logs, columns, val_keep, nominal=True)
+        source = f"the last {ident.settings.holdout:.0%} of each log (held out of the fit)"
+    return errors, source
+
+
+def _residuals(ident: Identification, fit_keep: list[np.ndarray] | None) -> ResidualAnalysis:
+    """What the refit leaves unexplained on the fitted logs (:mod:`.residuals`), over the span of each
+    log the spectra use."""
+    spectral = [
+        log.moving if fit_keep is None else log.moving & fit_keep[i] for i, log in enumerate(ident.logs)
+    ]
+    rate = min(log.signals.rate_hz for log in ident.logs)
+    spans = analysed_span(spectral, rate)
+    raw, angle = [], []
+    for i, (log, end) in enumerate(zip(ident.logs, spans, strict=True)):
+        k = log.signals.effort_per_force
+        t = log.signals.t_s
+        idx = np.arange(end)
+        model = ident.model_force(log, ident.columns[i], idx=idx)
+        raw.append(k * (np.interp(t[:end] + ident.delay_s, t, log.signals.force_n) - model))
+        angle.append(log.signals.position_m[:end] * ident.nominal.i_r / ident.nominal.r)
+    spectral = [mask[:end] for mask, end in zip(spectral, spans, strict=True)]
+    p = ident.settings.preparation
+    return analyse_residuals(raw, spectral, angle, rate, p.cutoff_hz, p.order)
+
+
+def _placeholder_residuals() -> ResidualAnalysis:
+    return ResidualAnalysis(math.nan, math.nan, (0.0, 0.0), (), (), 0, 0)
 
 
 def _split(
@@ -222,15 +391,21 @@ def _split(
 
 
 def error_stats(
-    values: FrictionValues, logs: Sequence[PreparedLog], keep: list[np.ndarray] | None, delay_s: float
+    ident: Identification,
+    logs: Sequence[PreparedLog],
+    columns: Sequence[TermColumns],
+    keep: list[np.ndarray] | None,
+    nominal: bool = False,
 ) -> ErrorStats:
-    """Measured (filtered) minus model effort at every usable sample of ``logs`` (within ``keep``)."""
+    """Measured (filtered) minus model effort at every usable sample of ``logs`` (within ``keep``), the
+    refit model or (``nominal``) eq. (1) with the nominal parameters."""
     err, measured, raw_err = [], [], []
+    delay_s = ident.delay_s
     for i, log in enumerate(logs):
         mask = log.usable if keep is None else log.usable & keep[i]
         idx = np.flatnonzero(mask)
         k = log.signals.effort_per_force
-        model = k * values.force_n(log.velocity_m_s[idx], log.acceleration_m_s2[idx])
+        model = k * ident.model_force(log, columns[i], nominal, idx)
         filtered = k * log.force_at(idx, delay_s)
         raw = k * np.interp(log.signals.t_s[idx] + delay_s, log.signals.t_s, log.signals.force_n)
         err.append(filtered - model)

@@ -8,16 +8,20 @@ axis geometry (r, i_r of the parameter file):
   F = τ·i_r/r; the fit's errors are reported in N·m;
 * a **carriage** joint (position [m], velocity [m/s], belt force [N]) is used as it is; errors in N.
 
-Checks, each a one-line :class:`IdentificationError`: the time stamps must increase, by steps within
-:data:`GAP_TOLERANCE` of the log's median step (a gap or a jump back names its sample and time);
-non-finite values are dropped and counted (an error above :data:`MAX_NONFINITE_FRACTION`); the record
-must be long enough and the axis must move.
+Checks, each a one-line :class:`IdentificationError`: the time stamps must increase (a jump back names
+its sample and time); non-finite positions and efforts are dropped and counted (an error above
+:data:`MAX_NONFINITE_FRACTION`); the record must be long enough and the axis must move.
 
-Holes. A chunk of the log that could not be read (damaged on disk) leaves a hole in the columns
-(:attr:`~axisflow.acquisition.logs.reader.JointStateColumns.holes`); its samples are put back as
-missing ones (non-finite, at the log's step), so the fit never takes the samples on both sides of a
-hole for neighbours: preparation leaves them out with a guard like any non-finite sample. They are
-counted apart (``skipped``), not against :data:`MAX_NONFINITE_FRACTION`.
+Lost samples are normal (a frame lost on a fieldbus, a message dropped on a busy network, a damaged
+chunk a reader skipped): the samples are placed on the drive's sampling grid
+(:mod:`.sample_grid`), the holes are filled by interpolation so that filters can run, counted and
+marked (``observed``), and preparation keeps every filtered or differentiated value that a hole
+touches out of the fit. Only a log missing more than
+:data:`~.sample_grid.MAX_LOST_FRACTION` of its grid is refused.
+
+Velocity: the fit never uses a logged velocity (a drive's velocity is its own filtered estimate, with
+its own lag); it differentiates the filtered position. A log without velocities (many drivers send
+none: an empty array in every message) is read as well; ``velocity_logged`` says whether it had them.
 
 Window. A :class:`TimeWindow` keeps the samples of each log between two times (seconds from an origin:
 the log's first sample unless given) and checks only those: a log with a gap or a stretch of no
@@ -39,19 +43,16 @@ from pathlib import Path
 
 import numpy as np
 
-from ..acquisition.logs.reader import Hole, read_joint_states
+from ..acquisition.logs.reader import read_joint_states, read_messages
+from ..acquisition.wire.drive_info import DRIVE_INFO_TYPE, DriveInfo
 from ..model import AxisflowError, AxisParams
+from .errors import IdentificationError
+from .sample_grid import SampleGrid, place_on_grid
 
-GAP_TOLERANCE = 0.5
-"""a step between stamps may differ from the median step by this fraction"""
 MAX_NONFINITE_FRACTION = 0.01
 """more non-finite samples than this fraction of a log is an error, not something to drop"""
 MIN_DURATION_S = 2.0
 MIN_MOTION_M_S = 1e-3
-
-
-class IdentificationError(AxisflowError, ValueError):
-    """A log or a setting cannot be used for identification (the message names what and why)."""
 
 
 @dataclass(frozen=True)
@@ -134,8 +135,9 @@ def joint_kind(name: str, kind: str | None = None) -> JointKind:
 
 @dataclass(frozen=True, eq=False)
 class JointSignals:
-    """One log's joint, in the cart frame: times from the log's first stamp, position, velocity and
-    the force the joint's effort means, all float64 arrays of the same length."""
+    """One log's joint, in the cart frame, on the drive's sampling grid: times from the first sample,
+    position, velocity and the force the joint's effort means, all float64 arrays of the grid's length
+    (values at missing samples interpolated; ``observed`` marks the real ones)."""
 
     source: str
     topic: str
@@ -150,16 +152,26 @@ class JointSignals:
     effort_per_force: float
     """the joint's effort per cart force: r/i_r for a motor joint [N·m/N], 1 for a carriage joint"""
     finite: np.ndarray
-    """False where a sample had a non-finite value (filled by interpolation; never fitted)"""
+    """False where a sample had a non-finite position or effort (filled by interpolation; never fitted)"""
     truncated: bool
     stamp_jitter_s: float
     """the largest deviation of a stamp from the uniform grid ``t_s`` [s]"""
+    grid: SampleGrid
+    """where the samples sit on the drive's grid; its holes"""
+    velocity_logged: bool
+    """whether the log carries velocities (NaN at grid points without one; never fitted)"""
     skipped: int = 0
-    """samples lost with chunks of the log that could not be read (put back as non-finite ones)"""
+    """of the :attr:`lost` samples, those lost with chunks of the log that the reader could not read
+    and skipped (each named in a warning)"""
+
+    @property
+    def observed(self) -> np.ndarray:
+        """True at the grid points that have a sample."""
+        return self.grid.observed()
 
     @property
     def rate_hz(self) -> float:
-        return (len(self.t_s) - 1) / (self.t_s[-1] - self.t_s[0])
+        return 1e9 / self.grid.period_ns
 
     @property
     def duration_s(self) -> float:
@@ -167,8 +179,13 @@ class JointSignals:
 
     @property
     def dropped(self) -> int:
-        """samples with a non-finite value in the log (not counting the ``skipped`` ones)"""
-        return int(np.count_nonzero(~self.finite)) - self.skipped
+        """Samples with non-finite values (not counting missing ones)."""
+        return int(np.count_nonzero(~self.finite & self.observed))
+
+    @property
+    def lost(self) -> int:
+        """Samples missing from the log (holes in the grid)."""
+        return self.grid.lost
 
 
 def load_joint(
@@ -189,102 +206,58 @@ def load_joint(
     q = np.asarray(data.position, dtype=float)
     qd = np.asarray(data.velocity, dtype=float)
     effort = np.asarray(data.effort, dtype=float)
-    stamps, (q, qd, effort), skipped = _open_holes(stamps, (q, qd, effort), columns.holes)
-    origin_ns, first = (int(stamps[0]) if stamps.size else 0), 0
+    origin_ns, first, end = (int(stamps[0]) if stamps.size else 0), 0, stamps.size
     if window is not None and not window.whole and stamps.size:
         keep = window.mask(str(path), stamps)
         first = int(np.argmax(keep))  # the window is one stretch: its first sample's index
+        end = first + int(np.count_nonzero(keep))
         if window.origin_ns is not None:
             origin_ns = window.origin_ns
-        stamps, q, qd, effort, skipped = stamps[keep], q[keep], qd[keep], effort[keep], skipped[keep]
-    _check_stamps(str(path), stamps, origin_ns, first)
-    finite = np.isfinite(q) & np.isfinite(qd) & np.isfinite(effort)
-    n_skipped = int(np.count_nonzero(skipped))
-    n_bad = int(np.count_nonzero(~finite)) - n_skipped
+        stamps, q, qd, effort = stamps[keep], q[keep], qd[keep], effort[keep]
+    # a skipped chunk inside the kept rows leaves a gap in the stamps: the grid makes it a hole
+    skipped = sum(h.messages or 0 for h in columns.holes if first < h.row < end)
+    grid = place_on_grid(stamps, str(path), first, origin_ns)
+    finite = np.isfinite(q) & np.isfinite(effort)
+    n_bad = int(np.count_nonzero(~finite))
     if n_bad > MAX_NONFINITE_FRACTION * finite.size:
         raise IdentificationError(
             f"{path}: {n_bad} of {finite.size} samples of joint {joint!r} have non-finite values "
             f"(more than {MAX_NONFINITE_FRACTION:.0%}): the log cannot be used"
         )
-    k = np.arange(stamps.size, dtype=float)
-    since_first = (stamps - stamps[0]).astype(float)
-    step_ns, offset_ns = np.polyfit(k, since_first, 1)  # the drive's period and phase, by least squares
-    grid_ns = offset_ns + k * step_ns
-    jitter_s = float(np.max(np.abs(since_first - grid_ns))) * 1e-9
-    t = (grid_ns - grid_ns[0]) * 1e-9
-    if not finite.all():  # non-finite values and skipped samples
-        q, qd, effort = (_fill(t, a, finite) for a in (q, qd, effort))
+    velocity_logged = bool(np.isfinite(qd).any())
+    if n_bad:
+        q, effort = (_fill(a, finite) for a in (q, effort))
+    on_grid = np.zeros(grid.size, dtype=bool)
+    on_grid[grid.index] = finite
+    velocity = np.full(grid.size, np.nan)
+    velocity[grid.index] = qd
     signals = JointSignals(
         source=str(path),
         topic=topic,
         joint=joint,
         kind=jk,
         start_ns=int(stamps[0]),
-        t_s=t,
-        position_m=q * scale,
-        velocity_m_s=qd * scale,
-        force_n=effort / scale,
+        t_s=grid.times_s(),
+        position_m=grid.spread(q) * scale,
+        velocity_m_s=velocity * scale,
+        force_n=grid.spread(effort) / scale,
         effort_per_force=scale,
-        finite=finite,
+        finite=on_grid | ~grid.observed(),
         truncated=columns.truncated,
-        stamp_jitter_s=jitter_s,
-        skipped=n_skipped,
+        stamp_jitter_s=grid.jitter_s,
+        grid=grid,
+        velocity_logged=velocity_logged,
+        skipped=skipped,
     )
     _check_usable(signals)
     return signals
 
 
-def _check_stamps(source: str, stamps: np.ndarray, origin_ns: int, first: int) -> None:
-    """Increasing stamps at a steady step; errors name samples by their index in the whole log
-    (``first``: the index of ``stamps[0]``) and times in seconds from ``origin_ns``."""
-    if stamps.size < 3:
-        raise IdentificationError(f"{source}: {stamps.size} samples are too few to identify anything")
-    steps = np.diff(stamps)
-    back = np.flatnonzero(steps <= 0)
-    t = (stamps - origin_ns) * 1e-9
-    if back.size:
-        k = int(back[0]) + 1
-        raise IdentificationError(
-            f"{source}: time stamps do not increase: sample {first + k} at {t[k]:.6f} s is "
-            f"{-steps[k - 1] * 1e-9:.6f} s before sample {first + k - 1} ({back.size} such steps in all)"
-        )
-    median = float(np.median(steps))
-    off = np.flatnonzero(np.abs(steps - median) > GAP_TOLERANCE * median)
-    if off.size:
-        k = int(off[0])
-        raise IdentificationError(
-            f"{source}: a gap in the time stamps: {steps[k] * 1e-6:.3f} ms between samples {first + k} and "
-            f"{first + k + 1} (at {t[k]:.6f} s), the log's step is {median * 1e-6:.3f} ms ({off.size} such "
-            "steps in all); "
-            "identify needs an unbroken record: fit the part before or after it (--start/--end)"
-        )
-
-
-def _open_holes(
-    stamps: np.ndarray, arrays: tuple[np.ndarray, ...], holes: tuple[Hole, ...]
-) -> tuple[np.ndarray, tuple[np.ndarray, ...], np.ndarray]:
-    """The samples with each hole between two rows filled by missing samples: stamps at the log's
-    median step from the sample before the hole, NaN values. Returns the stamps, the arrays and a mask
-    of the samples put back. (A hole before the first or after the last row shortens the log.)"""
-    inner = [h.row for h in holes if 0 < h.row < stamps.size]
-    if not inner:
-        return stamps, arrays, np.zeros(stamps.size, dtype=bool)
-    step = float(np.median(np.diff(stamps)))
-    at: list[int] = []
-    put_back: list[int] = []
-    for row in inner:
-        missing = round((stamps[row] - stamps[row - 1]) / step) - 1 if step > 0 else 0
-        at += [row] * max(missing, 0)
-        put_back += [int(stamps[row - 1]) + round(k * step) for k in range(1, missing + 1)]
-    where = np.array(at, dtype=np.intp)
-    filled = tuple(np.insert(a, where, np.nan) for a in arrays)
-    mask = np.insert(np.zeros(stamps.size, dtype=bool), where, True)
-    return np.insert(stamps, where, np.array(put_back, dtype=np.int64)), filled, mask
-
-
-def _fill(t: np.ndarray, values: np.ndarray, finite: np.ndarray) -> np.ndarray:
-    """Non-finite samples replaced by linear interpolation (so that filters run; never fitted)."""
-    return np.interp(t, t[finite], values[finite])
+def _fill(values: np.ndarray, finite: np.ndarray) -> np.ndarray:
+    """Non-finite samples replaced by linear interpolation between their finite neighbours (so that
+    filters run; never fitted)."""
+    k = np.arange(values.size, dtype=float)
+    return np.interp(k, k[finite], values[finite])
 
 
 def _check_usable(s: JointSignals) -> None:
@@ -293,9 +266,22 @@ def _check_usable(s: JointSignals) -> None:
             f"{s.source}: {s.duration_s:.3f} s of joint {s.joint!r} is too short "
             f"(at least {MIN_DURATION_S:g} s)"
         )
-    peak = float(np.max(np.abs(s.velocity_m_s)))
+    speed = np.abs(np.diff(s.position_m)) * s.rate_hz  # from the position: the log may have no velocity
+    peak = float(np.percentile(speed, 99.9)) if speed.size else 0.0
     if peak < MIN_MOTION_M_S:
         raise IdentificationError(
             f"{s.source}: the axis does not move in this log (peak speed {peak:.3g} m/s, below "
             f"{MIN_MOTION_M_S:g} m/s): run `axisflow excite` while recording"
         )
+
+
+def recorded_drive(path: str | Path, topic: str) -> str | None:
+    """What drove the axis whose samples are on ``topic`` (``/<prefix>/<axis>/state``), as its bridge
+    recorded it on ``/<prefix>/<axis>/drive`` (:class:`~axisflow.acquisition.wire.drive_info.DriveInfo`);
+    None for a log without it (another tool's, or a bridge that did not say)."""
+    drive_topic = topic.rsplit("/", 1)[0] + "/drive"
+    try:
+        messages = read_messages(path, drive_topic, DRIVE_INFO_TYPE)
+    except AxisflowError:
+        return None
+    return DriveInfo.decode(messages[-1].data).describe() if messages else None

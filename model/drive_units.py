@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -85,12 +86,12 @@ class DriveUnits:
         """The units of a drive on the axis of ``params`` (its i_r and r)."""
         return cls(counts_per_rev, rated_torque_nm, params.i_r, params.r, zero_counts)
 
-    @property
+    @cached_property
     def metres_per_count(self) -> float:
         """Cart travel of one encoder count [m] (the position resolution)."""
         return metres_per_count(self.counts_per_rev, self.i_r, self.r)
 
-    @property
+    @cached_property
     def newton_metres_per_unit(self) -> float:
         """Motor torque of one per mille unit [N·m] (the torque resolution)."""
         return self.rated_torque_nm / PER_MILLE
@@ -112,6 +113,11 @@ class DriveUnits:
     def counts(self, position_m: float) -> int:
         """The position count nearest to ``position_m`` [m]."""
         return _clamp(round(position_m / self.metres_per_count) + self.zero_counts, INT32_MIN, INT32_MAX)
+
+    def encoder_counts(self, position_m: float) -> int:
+        """The count an incremental encoder shows at ``position_m`` [m]: the one at or below it (scalar,
+        for a simulated drive's 1 kHz loop; :meth:`quantise_position` is the array form)."""
+        return _clamp(math.floor(position_m / self.metres_per_count) + self.zero_counts, INT32_MIN, INT32_MAX)
 
     def counts_per_s(self, velocity_m_s: float) -> int:
         """The velocity [counts/s] nearest to ``velocity_m_s`` [m/s]."""
@@ -135,4 +141,4 @@ class DriveUnits:
 
 
 def _clamp(value: int, low: int, high: int) -> int:
-    return int(min(max(value, low), high))
+    return int(low if value < low else high if value > high else value)

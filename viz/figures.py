@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..identification.refit import IdentifySettings, identify
+from ..identification.signals import recorded_drive
 from ..model import AxisParams
 from ..model.files import check_output_dir, ensure_dir, write_atomic_files
 from ..planner import Case
@@ -80,11 +81,14 @@ def render_figures(
 
 
 def _fig2(excitation: str | Path, params: AxisParams) -> bytes:
-    ident = identify([excitation], params, IdentifySettings())
+    settings = IdentifySettings()
+    ident = identify([excitation], params, settings)
+    drive = recorded_drive(excitation, settings.topic)
     return identification_png(
         ident.traces(),
-        f"Fig. 2 — identification on {Path(excitation).name}: measured motor torque against eq. (1), "
-        "refit and nominal parameters",
+        f"Fig. 2 — identification on {Path(excitation).name}"
+        + (f" ({drive})" if drive else "")
+        + ": measured motor torque against eq. (1), refit and nominal parameters",
     )
 
 
@@ -97,7 +101,12 @@ def _fig5(params: AxisParams, waypoints: Sequence[float], case: Case, recording:
         )
     else:
         traces = recorded_traces(recording, case)
-        caption = f"Measured on the axis (state samples, 1 kHz): recording {Path(recording).name}."
+        drive = recorded_drive(recording, IdentifySettings().topic)
+        caption = (
+            f"Measured on the axis (state samples, 1 kHz): recording {Path(recording).name}"
+            + (f", {drive}" if drive else "")
+            + "."
+        )
     return trajectory_png(traces, params, CASE_TITLES[case], caption)
 
 

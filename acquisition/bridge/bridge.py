@@ -12,8 +12,11 @@ and watches the move senders' tokens ``<prefix>/<axis>/sender/*``. Moves arrivin
    in arrival order, at most :data:`MOVES_PER_TICK` a tick (a burst is spread over ticks); a move is
    accepted only from a live sender (one whose token has not arrived yet is held up to
    :data:`SENDER_GRACE_S`: the token and the move travel separately);
-3. reads the drive's sample and publishes it on ``state``;
-4. computes the setpoint of tick k, publishes it on ``setpoint`` and applies it to the drive.
+3. reads the drive's sample and publishes it on ``state`` (a sample the drive lost on the way is
+   counted, and nothing is published for it);
+4. computes the setpoint of tick k, publishes it on ``setpoint`` (stamped with the tick's drive time)
+   and applies it to the drive; once a second of drive time (from tick 0) it publishes what drives the
+   axis (:class:`~axisflow.acquisition.wire.drive_info.DriveInfo`) on ``drive``.
 
 Every step of a move's life (accepted, rejected with the reason, started, completed, dropped) is a
 typed :class:`~axisflow.acquisition.wire.move_status.MoveStatus` on ``<prefix>/<axis>/event``, published
@@ -30,6 +33,7 @@ period is the jitter reported on exit. Tests drive :meth:`Bridge.step` directly.
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import threading
 import time
@@ -46,6 +50,8 @@ from ..drives.drive import Drive
 from ..errors import AcquisitionError, WireError
 from ..histogram import DurationHistogram, DurationStats
 from ..wire.attachment import unpack_attachment
+from ..wire.drive_info import DRIVE_INFO_TYPE, DriveInfo
+from ..wire.drive_info import PERIOD_TICKS as DRIVE_INFO_PERIOD
 from ..wire.keys import AxisKeys, sender_of_token
 from ..wire.messages import JOINT_STATE_TYPE
 from ..wire.move_status import MOVE_STATUS_TYPE, NO_TICK, MoveState, MoveStatus
@@ -80,6 +86,9 @@ class BridgeConfig:
     wait_subscribers_s: float = 0.0
     """before the first tick, wait up to this long for a subscriber on the state key"""
     jump_tolerance_m: float = DEFAULT_JUMP_TOLERANCE_M
+    drive: DriveInfo | None = None
+    """what drives the axis: published on ``<prefix>/<axis>/drive`` at the start and every
+    :data:`DRIVE_INFO_PERIOD`, and named in the report (None: neither)"""
 
     def __post_init__(self) -> None:
         if not self.speed >= 0.0:
@@ -113,6 +122,10 @@ class BridgeReport:
     moves_missed: int = 0
     """moves lost on the way, from the senders' sequence numbers"""
     quick_stops: int = 0
+    samples_lost: int = 0
+    """ticks whose sample the drive lost on the way (none published)"""
+    drive: str = ""
+    """what drove the axis (:attr:`BridgeConfig.drive`)"""
     period_jitter: DurationStats | None = None
     """|tick-start period − 1 ms/speed| [µs]; None at speed 0"""
     late_ticks: int = 0
@@ -122,10 +135,12 @@ class BridgeReport:
     def summary(self) -> str:
         lines = [
             f"bridge: {self.ticks} ticks ({ticks_to_seconds(self.ticks):.3f} s of drive time) "
-            f"in {self.wall_time_s:.3f} s",
+            f"in {self.wall_time_s:.3f} s" + (f"; drive: {self.drive}" if self.drive else ""),
             f"  moves: {self.moves_accepted} accepted, {self.moves_completed} completed, "
             f"{self.moves_rejected} rejected, {self.moves_dropped} dropped, {self.moves_missed} missed",
         ]
+        if self.samples_lost:
+            lines.append(f"  samples lost by the drive: {self.samples_lost} of {self.ticks}")
         if self.period_jitter is not None and self.period_jitter.count:
             j = self.period_jitter
             lines.append(
@@ -144,6 +159,8 @@ class BridgeReport:
             "moves_dropped": self.moves_dropped,
             "moves_missed": self.moves_missed,
             "quick_stops": self.quick_stops,
+            "samples_lost": self.samples_lost,
+            "drive": self.drive,
             "period_jitter": self.period_jitter.to_dict() if self.period_jitter else None,
             "late_ticks": self.late_ticks,
             "rejections": self.rejections,
@@ -187,7 +204,7 @@ class Bridge:
         self.params = params
         self.config = config
         self.keys = config.keys
-        self.report = BridgeReport()
+        self.report = BridgeReport(drive=config.drive.describe() if config.drive is not None else "")
         self.tick = 0
         """the next tick to run"""
         self._stack = ExitStack()
@@ -223,6 +240,11 @@ class Bridge:
             self._stops = stack.enter_context(
                 session.declare_subscriber(keys.stop, zenoh.handlers.FifoChannel(64))
             )
+            self._drive_pub = (
+                stack.enter_context(SequencedPublisher(session, keys.drive, DRIVE_INFO_TYPE, Traffic.COMMAND))
+                if self.config.drive is not None
+                else None
+            )
             stack.enter_context(session.liveliness().declare_token(keys.alive))
         except BaseException:
             stack.close()
@@ -231,6 +253,9 @@ class Bridge:
         if wait > 0 and not wait_for_subscribers([self._state_pub], wait):
             log.warning("no subscriber on %s after %.1f s; starting anyway", keys.state, wait)
         first = self.drive.read()
+        if first is None:
+            stack.close()
+            raise AcquisitionError(f"the drive of axis {keys.axis} gave no first sample: cannot start")
         self._queue = MoveQueue(
             self.params, first.position_m, first.stamp_ns, keys.axis, self.config.jump_tolerance_m
         )
@@ -259,7 +284,10 @@ class Bridge:
         self._take_stops()
         self._take_moves()
         sample = self.drive.read()
-        self._state_pub.put(sample.encode())
+        if sample is not None:
+            self._state_pub.put(sample.encode())
+        else:
+            self.report.samples_lost += 1
         step = queue.advance(self.tick)
         for done in step.finished:
             if done.stop is not None:
@@ -269,7 +297,11 @@ class Bridge:
         if step.started is not None:
             q = step.started
             self._status(MoveState.STARTED, q, f"started move {q.command.move_id}")
-        self._setpoint_pub.put(step.setpoint.to_sample(sample.stamp_ns, self.keys.axis, self.params).encode())
+        self._setpoint_pub.put(step.setpoint.to_sample(self._stamp(), self.keys.axis, self.params).encode())
+        drive = self.config.drive
+        if self._drive_pub is not None and drive is not None and self.tick % DRIVE_INFO_PERIOD == 0:
+            info = dataclasses.replace(drive, stamp_ns=self._stamp(), axis=self.keys.axis)
+            self._drive_pub.put(info.encode())
         self.drive.apply(step.setpoint)
         self._send_statuses(STATUSES_PER_TICK)
         self.tick += 1

@@ -1,9 +1,9 @@
 """The drive interface: what the bridge needs from an axis drive, simulated or real.
 
 A drive runs a fixed-period cycle (1 ms, :data:`axisflow.model.EXECUTION_PERIOD_NS`). Each cycle the
-bridge :meth:`Drive.read` s the sample of the current tick, then :meth:`Drive.apply` s the setpoint for
-it, which lets the drive advance to the next tick. A real drive (e.g. CiA 402 cyclic synchronous
-position mode with velocity and torque offsets) implements the same two calls.
+bridge :meth:`Drive.read` s the sample of the current tick (if it arrived), then :meth:`Drive.apply` s
+the setpoint for it, which lets the drive advance to the next tick. A real drive (e.g. CiA 402 cyclic
+synchronous position mode with velocity and torque offsets) implements the same two calls.
 """
 
 from __future__ import annotations
@@ -45,8 +45,10 @@ class Drive(Protocol):
     axis: str
     """name of the axis (the JointState frame_id)"""
 
-    def read(self) -> AxisSample:
-        """The measured sample of the current tick (stamp = the drive's sample time)."""
+    def read(self) -> AxisSample | None:
+        """The measured sample of the current tick (stamp = the drive's sample time), or None when it
+        was lost on the way (a fieldbus frame that missed its cycle): the drive's own loop runs on, and
+        the bridge publishes no sample for that tick. The first sample of a run is never None."""
         ...
 
     def apply(self, setpoint: Setpoint) -> None:

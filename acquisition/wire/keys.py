@@ -79,6 +79,11 @@ class AxisKeys:
         return f"{self.prefix}/{self.axis}/event"
 
     @property
+    def drive(self) -> str:
+        """what drives the axis (the bridge's DriveInfo, once a second)"""
+        return f"{self.prefix}/{self.axis}/drive"
+
+    @property
     def alive(self) -> str:
         """liveliness token of the running bridge"""
         return f"{self.prefix}/{self.axis}/alive"

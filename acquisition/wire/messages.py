@@ -12,6 +12,8 @@ definition with its dependencies, as rosbag2 stores it) so that any tool decodes
 * ``axisflow_msgs/msg/QuickStop`` — :class:`~axisflow.acquisition.wire.quick_stop.QuickStop`; stop now.
 * ``axisflow_msgs/msg/PlanResult`` — :class:`~axisflow.acquisition.wire.plan_record.PlanRecord`; what a
   planner decided for each move (duration, model energy, objective, solver status, certificate).
+* ``axisflow_msgs/msg/DriveInfo`` — :class:`~axisflow.acquisition.wire.drive_info.DriveInfo`; what
+  drives an axis (the simulated axis and its plant profile, or a real drive).
 
 Time stamps are integer nanoseconds since the Unix epoch (``builtin_interfaces/Time`` on the wire).
 """
@@ -33,6 +35,7 @@ from .cdr import (
     schema_with_dependencies,
     write_time,
 )
+from .drive_info import DRIVE_INFO_SCHEMA, DRIVE_INFO_TYPE
 from .move_status import MOVE_STATUS_SCHEMA, MOVE_STATUS_TYPE
 from .plan_record import PLAN_SCHEMA, PLAN_TYPE
 from .quick_stop import QUICK_STOP_SCHEMA, QUICK_STOP_TYPE
@@ -74,6 +77,7 @@ SCHEMAS: dict[str, str] = {
     MOVE_STATUS_TYPE: MOVE_STATUS_SCHEMA,
     PLAN_TYPE: PLAN_SCHEMA,
     QUICK_STOP_TYPE: QUICK_STOP_SCHEMA,
+    DRIVE_INFO_TYPE: DRIVE_INFO_SCHEMA,
 }
 """ros2msg schema text by ROS 2 type name, for every type axisflow publishes."""
 

@@ -7,6 +7,7 @@ import sys
 import time
 from pathlib import Path
 
+from ..acquisition.drives.plant import DEFAULT_PROFILE, PROFILE_RESOURCES
 from ..acquisition.shutdown import stop_on_signals
 from ..arguments import finite_float, non_negative_int, positive_int, waypoint_count
 from ..demo import DEFAULT_LOOKAHEAD, DEFAULT_LOOKAHEAD_S, DEFAULT_WAYPOINTS, DemoSettings, run_demo
@@ -62,6 +63,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--params", metavar="FILE", default=None, help="nominal axis parameters (default: packaged)"
     )
+    p.add_argument(
+        "--plant-profile",
+        choices=list(PROFILE_RESOURCES),
+        default=DEFAULT_PROFILE,
+        help=f"the simulated axis's plant profile (docs/plant.md; default {DEFAULT_PROFILE})",
+    )
     p.set_defaults(func=run)
 
 
@@ -81,11 +88,12 @@ def run(args: argparse.Namespace) -> int:
         lookahead=args.lookahead,
         lookahead_s=args.lookahead_s,
         params_path=args.params,
+        plant_profile=args.plant_profile,
     )
     speed = "as fast as the recorder allows" if args.speed == 0 else f"at {args.speed:g}× real time"
     print(
-        f"axisflow demo: {args.waypoints} way points (the paper: 100), solver {args.solver}, the bridge runs "
-        f"{speed}",
+        f"axisflow demo: {args.waypoints} way points (the paper: 100), solver {args.solver}, plant profile "
+        f"{args.plant_profile}, the bridge runs {speed}",
         file=sys.stderr,
         flush=True,
     )
@@ -105,7 +113,8 @@ def run(args: argparse.Namespace) -> int:
             print(f"  {a.case.value:16} {a.law}: {_pct(a.energy_error_pct)} → {_pct(b.energy_error_pct)}")
         idle = sum(r.measured.idle_ticks_total for t in (nominal, refit) for r in t.rows if r.measured)
         print(f"idle ticks between consecutive moves, all rows: {idle}")
-    print(f"\ndemo finished in {report.wall_time_s:.0f} s; everything is in {report.out}/")
+    print(f"\nplant: {report.plant}")
+    print(f"demo finished in {report.wall_time_s:.0f} s; everything is in {report.out}/")
     return 0
 
 

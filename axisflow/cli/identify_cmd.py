@@ -6,10 +6,12 @@ import argparse
 import json
 
 from ..acquisition.logs.reader import check_mcap
-from ..arguments import add_params_option, finite_float, params_from_args
+from ..arguments import add_params_option, finite_float, non_negative_int, params_from_args
+from ..identification.errors import IdentificationError
+from ..identification.extra_terms import ExtraTerms
 from ..identification.fit import PARAMETERS
 from ..identification.preparation import PreparationSettings
-from ..identification.refit import DEFAULT_JOINT, DEFAULT_TOPIC, IdentifySettings
+from ..identification.refit import DEFAULT_JOINT, DEFAULT_STROKE_TERMS, DEFAULT_TOPIC, IdentifySettings
 from ..identification.report import report_markdown
 from ..identification.signals import TimeWindow
 from ..identify import REFIT_FILES, identify_to
@@ -83,6 +85,21 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="fit each log up to S seconds after its first sample (default: its end)",
     )
     p.add_argument(
+        "--stroke-terms",
+        type=non_negative_int,
+        default=DEFAULT_STROKE_TERMS,
+        metavar="K",
+        help="Legendre terms of the Coulomb friction along the stroke, fitted beside a1…a4 (a1 is then "
+        f"their average over the covered stretch; 0: none; default {DEFAULT_STROKE_TERMS})",
+    )
+    p.add_argument(
+        "--cogging",
+        default="auto",
+        metavar="ORDERS",
+        help="cogging orders [cycles per motor revolution] fitted beside a1…a4: comma-separated (e.g. "
+        "24,48), 'auto' (default: the orders whose residual peak stands out, found by a first fit) or 'none'",
+    )
+    p.add_argument(
         "--cutoff",
         type=finite_float,
         default=PreparationSettings.cutoff_hz,
@@ -92,6 +109,22 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--json", action="store_true", help="print report.json instead of the summary")
     add_params_option(p)
     p.set_defaults(func=run)
+
+
+def _orders(text: str) -> tuple[int, ...]:
+    if text.strip() in ("auto", "none"):
+        return ()
+    orders = []
+    for part in (p.strip() for p in text.split(",")):
+        if not part:
+            continue
+        try:
+            orders.append(int(part))
+        except ValueError:
+            raise IdentificationError(
+                f"--cogging {text}: {part!r} is not a whole number of cycles per motor revolution"
+            ) from None
+    return tuple(orders)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -105,6 +138,9 @@ def run(args: argparse.Namespace) -> int:
         torque_delay_s=args.torque_delay,
         holdout=args.holdout,
         window=TimeWindow(args.start, args.end),
+        extra=ExtraTerms(
+            args.stroke_terms, _orders(args.cogging), auto_cogging=args.cogging.strip() == "auto"
+        ),
     )
     logs = [*args.logs, *args.validate]
     for log in logs:

@@ -38,15 +38,15 @@ ROLE_GRANTS: dict[str, tuple[Grant, ...]] = {
     "planner": (
         Grant("ingress", ("put",), ("*/trajectory", "*/stop")),
         Grant("ingress", ("liveliness_token",), ("*/sender/*",)),
-        Grant("ingress", ("declare_subscriber",), ("*/event", "*/state", "*/setpoint")),
+        Grant("ingress", ("declare_subscriber",), ("*/event", "*/state", "*/setpoint", "*/drive")),
         Grant("ingress", ("declare_liveliness_subscriber", "liveliness_query"), ("*/alive",)),
-        Grant("egress", ("put",), ("*/event", "*/state", "*/setpoint")),
+        Grant("egress", ("put",), ("*/event", "*/state", "*/setpoint", "*/drive")),
         Grant("egress", ("liveliness_token",), ("*/alive",)),
         Grant("egress", ("declare_subscriber",), ("**",)),  # who listens to its moves (matching)
     ),
     # the bridge publishes telemetry and events and its token; it reads moves, stops, sender tokens
     "bridge": (
-        Grant("ingress", ("put",), ("*/state", "*/setpoint", "*/event")),
+        Grant("ingress", ("put",), ("*/state", "*/setpoint", "*/event", "*/drive")),
         Grant("ingress", ("liveliness_token",), ("*/alive",)),
         Grant("ingress", ("declare_subscriber",), ("*/trajectory", "*/stop")),
         Grant("ingress", ("declare_liveliness_subscriber", "liveliness_query"), ("*/sender/*",)),

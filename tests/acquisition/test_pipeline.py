@@ -103,6 +103,7 @@ def test_file_is_ros2_profile_with_schemas_and_qos(recording):
         SETPOINT: "sensor_msgs/msg/JointState",
         "/axisflow/a0/trajectory": "axisflow_msgs/msg/Move",
         "/axisflow/a0/event": "axisflow_msgs/msg/MoveStatus",
+        "/axisflow/a0/drive": "axisflow_msgs/msg/DriveInfo",  # what the bridge drives, once a second
     }
     assert {ch.topic: summary.schemas[ch.schema_id].name for ch in summary.channels.values()} == expected
     for ch in summary.channels.values():

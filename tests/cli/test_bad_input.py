@@ -19,6 +19,7 @@ import json
 import math
 import os
 import signal
+import struct
 import subprocess
 import sys
 import time
@@ -297,7 +298,76 @@ CASES = [
         says=("notes.txt holds 6 bytes", "16 bytes"),
         untouched=("notes.txt",),
     ),
+    case(
+        "bridge: plant state outside the stroke",
+        "bridge",
+        "--sim",
+        "--plant-state",
+        "far.state",
+        says=("far.state holds x = 5 m", "outside the stroke [0, 0.8] m"),
+        untouched=("far.state",),
+    ),
+    case(
+        "bridge: plant state beyond the speed limit",
+        "bridge",
+        "--sim",
+        "--plant-state",
+        "fast.state",
+        says=("fast.state holds v = 100 m/s", "beyond ±1.65 m/s", "v_max 1.5 m/s"),
+        untouched=("fast.state",),
+    ),
+    case(
+        "bridge: plant file out of range",
+        "bridge",
+        "--sim",
+        "--plant",
+        "lossy-plant.toml",
+        says=("lossy-plant.toml", "sample_clock.drop_fraction = 0.9", "must be <= 0.5"),
+    ),
+    case(
+        "bridge: unknown plant profile",
+        "bridge",
+        "--sim",
+        "--plant-profile",
+        "cold",
+        says=("--plant-profile", "'cold'", "ideal", "warm-up"),
+    ),
+    case(
+        "bridge: a plant file and a profile",
+        "bridge",
+        "--sim",
+        "--plant",
+        "lossy-plant.toml",
+        "--plant-profile",
+        "realistic",
+        says=("--plant-profile", "not allowed with argument --plant"),
+    ),
     case("bridge: bad key prefix", "bridge", "--sim", "--prefix", "a/*", says=("key prefix 'a/*'", "'*'")),
+    case(
+        "demo: unknown plant profile", "demo", "--plant-profile", "tidy", says=("--plant-profile", "'tidy'")
+    ),
+    case(
+        "identify: a cogging order that is not a number",
+        "identify",
+        "still.mcap",
+        "--out",
+        "refit",
+        "--cogging",
+        "24,x",
+        says=("--cogging 24,x", "'x' is not a whole number of cycles per motor revolution"),
+        untouched=("refit",),
+    ),
+    case(
+        "identify: too many stroke terms",
+        "identify",
+        "still.mcap",
+        "--out",
+        "refit",
+        "--stroke-terms",
+        "20",
+        says=("stroke terms = 20", "0…12"),
+        untouched=("refit",),
+    ),
     case(
         "bridge: invalid zenoh config",
         "bridge",
@@ -1011,6 +1081,9 @@ def inputs(tmp_path_factory, damage) -> Path:
     (d / "garbage.toml").write_text("m = = 3\n[[[\n")
     (d / "bad.json5").write_text("{ mode: 'peer',\n")
     (d / "notes.txt").write_text("hello\n")
+    (d / "far.state").write_bytes(struct.pack("<dd", 5.0, 0.0))  # x [m], v [m/s] as a bridge writes them
+    (d / "fast.state").write_bytes(struct.pack("<dd", 0.4, 100.0))
+    (d / "lossy-plant.toml").write_text('base = "realistic"\n[sample_clock]\ndrop_fraction = 0.9\n')
     (d / "outside.txt").write_text("0.1\n0.9\n")
     (d / "words.txt").write_text("0.1\nabc\n")
     (d / "one.txt").write_text("0.1\n")

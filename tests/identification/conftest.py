@@ -32,6 +32,19 @@ def motion(t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return x, v, a
 
 
+def brisk_motion(t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Two sinusoids (0.3 Hz, 0.15 m and 1.1 Hz, 0.03 m): accelerations up to 2 m/s² that vary apart
+    from the speed, so that the torque's timing shows (a single sinusoid's delay looks exactly like a
+    change of a2 and M_eq: its jerk is −ω²·v). 3 N·m at most, below the drive's limit."""
+    x, v, a = np.full_like(t, 0.4), np.zeros_like(t), np.zeros_like(t)
+    for amp, hz in ((0.15, 0.3), (0.03, 1.1)):
+        w = 2 * math.pi * hz
+        x += amp * np.sin(w * t)
+        v += amp * w * np.cos(w * t)
+        a -= amp * w * w * np.sin(w * t)
+    return x, v, a
+
+
 def write_foreign_log(
     path: Path,
     duration_s: float = 40.0,
@@ -42,22 +55,28 @@ def write_foreign_log(
     noise_nm: float = 0.01,
     edit=None,  # callable(t_ns, pos, vel, eff) -> (t_ns, pos, vel, eff), to spoil the log
     compression: str = "zstd",
+    delay_s: float = 0.0,
+    kinematics=motion,
+    velocity: bool = True,
 ) -> Path:
     """A ROS 2 bag-like MCAP by mcap_ros2's writer: a JointState topic whose joint ``slider`` is a motor
     (rad, rad/s, N·m) driving the axis PLANT, interleaved with a second JointState topic and a
-    std_msgs/String topic in the same chunks."""
+    std_msgs/String topic in the same chunks. The torque describes the instant ``delay_s`` before its
+    stamp; ``velocity`` False sends empty velocity arrays (as many drivers do)."""
     from mcap.writer import CompressionType
     from mcap_ros2.writer import Writer
 
     rng = np.random.default_rng(1)
     t = np.arange(0.0, duration_s, 1e-3)
-    x, v, a = motion(t)
+    x, v, a = kinematics(t)
+    _, v_then, a_then = kinematics(t - delay_s) if delay_s else (x, v, a)
     k = PLANT.i_r / PLANT.r
     pos = np.zeros((t.size, len(joints)))
     vel = np.zeros_like(pos)
     eff = np.zeros_like(pos)
     pos[:, slider], vel[:, slider] = x * k, v * k
-    eff[:, slider] = motor_torque(cart_force(v, a, PLANT), PLANT) + rng.normal(0.0, noise_nm, t.size)
+    torque = motor_torque(cart_force(v_then, a_then, PLANT), PLANT)
+    eff[:, slider] = torque + rng.normal(0.0, noise_nm, t.size)
     t_ns = 1_700_000_000 * 10**9 + np.arange(t.size, dtype=np.int64) * 1_000_000
     if edit is not None:
         t_ns, pos, vel, eff = edit(t_ns, pos, vel, eff)
@@ -72,7 +91,7 @@ def write_foreign_log(
             sec, nsec = divmod(stamp, 10**9)
             header = {"stamp": {"sec": sec, "nanosec": nsec}, "frame_id": "robot"}
             msg = {"header": header, "name": list(joints), "position": pos[i].tolist(),
-                   "velocity": vel[i].tolist(), "effort": eff[i].tolist()}  # fmt: skip
+                   "velocity": vel[i].tolist() if velocity else [], "effort": eff[i].tolist()}  # fmt: skip
             writer.write_message(topic, js, msg, log_time=stamp, publish_time=stamp)
             if i % 10 == 0:
                 other = {

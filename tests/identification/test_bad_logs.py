@@ -19,6 +19,25 @@ def _gap(t_ns, pos, vel, eff):
     return t_ns[keep], pos[keep], vel[keep], eff[keep]
 
 
+def _mostly_missing(t_ns, pos, vel, eff):
+    keep = np.ones(t_ns.size, bool)
+    keep[2000:8000:2] = False  # every other sample of 6 s lost: 3000 of 20 000 (15 %) …
+    keep[12000:15000] = False  # … and 3 s in one piece: 6000 (30 %) in all
+    return t_ns[keep], pos[keep], vel[keep], eff[keep]
+
+
+def _off_grid(t_ns, pos, vel, eff):
+    t_ns = t_ns.copy()
+    t_ns[10000:] = t_ns[10000] + (t_ns[10000:] - t_ns[10000]) * 13 // 10  # from 10 s on, 1.3 ms steps
+    return t_ns, pos, vel, eff
+
+
+def _doubled(t_ns, pos, vel, eff):
+    t_ns = t_ns.copy()
+    t_ns[4000] = t_ns[3999] + 200_000  # two samples 0.2 ms apart
+    return t_ns, pos, vel, eff
+
+
 def _backwards(t_ns, pos, vel, eff):
     t_ns = t_ns.copy()
     t_ns[7000] = t_ns[6990]
@@ -57,7 +76,21 @@ CASES = {  # how to spoil the log, the command's arguments, what the error says
         [*TOPIC, "--joint", "base_yaw"],
         r"'base_yaw' is neither 'motor' nor 'carriage'",
     ),
-    "gap": (_gap, FOREIGN, r"a gap in the time stamps: 13.000 ms between samples 4999 and 5000"),
+    "mostly-missing": (
+        _mostly_missing,
+        FOREIGN,
+        r"6000 of 20000 samples missing \(30.00%\) in 3001 holes, the longest 3000 ms: more than 20%",
+    ),
+    "off-grid": (
+        _off_grid,
+        FOREIGN,
+        r"do not sit on a sampling grid: sample \d+ at [\d.]+ s is [\d.]+ ms from it, more than half",
+    ),
+    "doubled": (
+        _doubled,
+        FOREIGN,
+        r"samples 3999 and 4000 are 0.200 ms apart, less than half the log's step",
+    ),
     "backwards": (_backwards, FOREIGN, r"time stamps do not increase: sample 7000"),
     "too-many-nan": (_nan(0.05), FOREIGN, r"'slider_motor' have non-finite values \(more than 1%\)"),
     "no-motion": (_still, FOREIGN, r"the axis does not move in this log \(peak speed 0 m/s"),
@@ -68,10 +101,10 @@ CASES = {  # how to spoil the log, the command's arguments, what the error says
         r"--fit a1,a9: unknown a9; choose from M_eq, a1, a2",
     ),
     "bad-holdout": (None, [*FOREIGN, "--holdout", "1.5"], r"holdout = 1.5 must be a fraction in \[0, 0.9\)"),
-    "gap-inside-the-window": (  # samples named in the whole log, times from its first sample
-        _gap,
+    "doubled-inside-the-window": (  # samples named in the whole log
+        _doubled,
         [*FOREIGN, "--start", "2", "--end", "8"],
-        r"13.000 ms between samples 4999 and 5000 \(at 4.999000 s\)",
+        r"samples 3999 and 4000 are 0.200 ms apart",
     ),
     "empty-window": (
         None,

@@ -36,7 +36,7 @@ def test_the_hole_becomes_missing_samples_that_are_never_fitted(logs):
     assert signals.skipped == hole.messages > 500  # the chunk held ~1 s of the topic
     assert signals.dropped == 0  # not counted as non-finite values of the log
     assert np.array_equal(signals.t_s, reference.logs[0].signals.t_s)  # put back on the drive's grid
-    missing = np.flatnonzero(~signals.finite)
+    missing = np.flatnonzero(~signals.observed)
     assert missing.size == hole.messages and np.all(np.diff(missing) == 1)  # one stretch
     guard = round(SETTINGS.preparation.guard_s * signals.rate_hz)
     near = slice(missing[0] - guard, missing[-1] + guard + 1)

@@ -42,7 +42,7 @@ def test_holdout_validates_on_the_end_of_the_log_and_reports_both_parameter_sets
     keys = {"parameters", "correlation", "condition_number", "fit", "validation", "solver", "timing_s", "log"}
     assert keys <= set(report)
     assert set(report["parameters"]["a1"]) >= {"value", "std", "initial"}
-    assert set(report["timing_s"]) == {"read", "prepare", "solve", "total"}
+    assert set(report["timing_s"]) == {"read", "prepare", "solve", "judge", "total"}
     assert set(report["log"]) >= {"paths", "topic", "joint", "samples", "duration_s"}
     assert "| a1 [N] |" in report_markdown(json.loads(json.dumps(report)))
 
@@ -89,3 +89,31 @@ def test_jittery_stamps_are_placed_on_the_drive_grid(tmp_path):
     assert 40e-6 < report_json(ident)["log"]["stamp_jitter_s"] < 60e-6
     assert ident.errors["fit"].rms < 0.005
     assert ident.fit.values.M_eq == pytest.approx(PLANT.M_eq, rel=0.01)
+
+
+def test_a_log_without_velocities_works_from_the_position_alone(tmp_path):
+    path = write_foreign_log(tmp_path / "novel.mcap", velocity=False)
+    ident = identify([path], NOMINAL, SETTINGS)
+    report = report_json(ident)
+    assert report["velocity"]["logged"] is False and report["velocity"]["logged_lag_s"] is None
+    assert "the log has none" in report_markdown(report)
+    with_velocity = identify([write_foreign_log(tmp_path / "vel.mcap")], NOMINAL, SETTINGS)
+    for name, value in ident.fit.values.as_dict().items():  # the fit never used the velocity
+        assert value == with_velocity.fit.values.as_dict()[name], name
+
+
+def test_lost_samples_are_counted_and_the_fit_stays_where_the_whole_log_puts_it(tmp_path):
+    def lose(t_ns, pos, vel, eff):
+        keep = np.random.default_rng(9).random(t_ns.size) > 0.001
+        keep[0] = keep[-1] = True
+        return t_ns[keep], pos[keep], vel[keep], eff[keep]
+
+    lossy = identify([write_foreign_log(tmp_path / "lossy.mcap", edit=lose)], NOMINAL, SETTINGS)
+    whole = identify([write_foreign_log(tmp_path / "whole.mcap")], NOMINAL, SETTINGS)
+    report = report_json(lossy)
+    expected = int(np.count_nonzero(np.random.default_rng(9).random(40_000) <= 0.001))
+    assert report["samples"]["missing"] == expected > 10
+    assert report["samples"]["near_holes"] > 0 and report["samples"]["total"] == 40_000
+    for name, value in lossy.fit.values.as_dict().items():
+        assert abs(value - whole.fit.values.as_dict()[name]) < 2 * lossy.uncertainty.std[name], name
+        assert value == pytest.approx(getattr(PLANT, name), rel=0.01), name

@@ -68,3 +68,10 @@ def test_bad_units_are_refused_naming_the_value(kwargs, match):
     base = {"counts_per_rev": 4096, "rated_torque_nm": 1.0, "i_r": 10.0, "r": 0.04}
     with pytest.raises(ParameterError, match=match):
         DriveUnits(**{**base, **kwargs})
+
+
+def test_the_encoder_count_is_the_one_at_or_below_the_position():
+    for x in (0.0, 0.1234567, -0.0314, 0.8 - 1e-9):
+        counts = UNITS.encoder_counts(x)
+        assert UNITS.position_m(counts) <= x < UNITS.position_m(counts + 1) + 1e-15
+        assert UNITS.position_m(counts) == pytest.approx(UNITS.quantise_position(x), abs=1e-15)

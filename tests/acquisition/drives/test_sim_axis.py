@@ -1,4 +1,5 @@
-"""The simulated axis: plant file validation, encoder resolution, saturation, holding and tracking."""
+"""The simulated drive: plant file validation, encoder resolution, saturation, holding and tracking (the
+ideal profile); the realistic profiles' drive units, noise, sample clock and true parameters."""
 
 import math
 
@@ -136,18 +137,6 @@ def test_tracks_a_move_and_comes_to_rest_at_its_end():
     assert max(torques) <= params.tau_max + 0.1  # measured torque: saturated command + noise
 
 
-def test_the_plants_scalar_friction_is_the_models_law():
-    import numpy as np
-    from axisflow.acquisition.drives.sim_axis import moving_friction
-    from axisflow.model import default_params, friction_force
-
-    p = default_params().replace(a1=61.0, a2=190.0, a3=150.0, a4=9.0)
-    v = np.array([-1.3, -0.2, -1e-3, -1e-6, 1e-6, 1e-3, 0.2, 1.3])
-    assert [moving_friction(float(x), p) for x in v] == pytest.approx(
-        friction_force(v, p).tolist(), rel=1e-15
-    )
-
-
 def test_a_plant_restarted_on_its_state_file_starts_where_the_axis_came_to_rest(tmp_path):
     from axisflow.model import stop_profile
 
@@ -166,3 +155,169 @@ def test_a_plant_restarted_on_its_state_file_starts_where_the_axis_came_to_rest(
     assert x < second.position_m < p.L
     assert SimulatedAxis(plant, p, 0).position_m == plant.simulation.initial_position_m  # no file: as before
     second.close()
+
+
+# ---- the realistic profiles --------------------------------------------------------------------------
+
+
+def _realistic(profile="realistic", x0=0.4, **sections):
+    """A packaged profile's plant (with sections replaced), starting at ``x0``."""
+    import dataclasses
+
+    from axisflow.acquisition.drives.plant import load_profile
+
+    plant = load_profile(profile, default_params())
+    sim = dataclasses.replace(plant.simulation, initial_position_m=x0)
+    return dataclasses.replace(plant, simulation=sim, **sections)
+
+
+def _sine_setpoints(p, n, amplitude=0.2, hz=0.5, center=0.4):
+    from axisflow.model import cart_force
+
+    out = []
+    w = 2 * math.pi * hz
+    for k in range(n):
+        t = k * 1e-3
+        x = center + amplitude * math.sin(w * t)
+        v, a = amplitude * w * math.cos(w * t), -amplitude * w * w * math.sin(w * t)
+        out.append(Setpoint(x, v, a, float(cart_force(v, a, p))))
+    return out
+
+
+def test_a_realistic_drive_reports_in_counts_and_per_mille():
+    p = default_params()
+    plant = _realistic()
+    units = plant.drive.units(p)
+    ax = SimulatedAxis(plant, p, T0)
+    seen = 0
+    for sp in _sine_setpoints(p, 3000):
+        s = ax.read()
+        ax.apply(sp)
+        if s is None:
+            continue
+        seen += 1
+        counts = s.position_m / units.metres_per_count
+        assert counts == pytest.approx(round(counts), abs=1e-6)
+        per_mille = s.motor_torque_nm / units.newton_metres_per_unit
+        assert per_mille == pytest.approx(round(per_mille), abs=1e-6)
+        speed = s.velocity_m_s / units.metres_per_count
+        assert speed == pytest.approx(round(speed), abs=1e-6)
+        assert s.motor_angle_rad == pytest.approx(s.position_m * p.i_r / p.r, rel=1e-12)
+    assert seen > 2900
+
+
+def test_the_sample_clock_jitters_stamps_and_loses_about_one_sample_in_a_thousand():
+    p = default_params()
+    ax = SimulatedAxis(_realistic(), p, T0)
+    assert ax.read() is not None  # the first sample is never lost: the bridge starts from it
+    n, lost, deviations = 100_000, 0, []
+    for k in range(n):
+        s = ax.read()
+        if s is None:
+            lost += 1
+        else:
+            deviations.append(s.stamp_ns - (T0 + k * 1_000_000))
+        ax.apply(Setpoint(0.4, 0.0, 0.0, 0.0))
+    assert 50 <= lost <= 150  # binomial(1e5, 1e-3): 100 ± 10
+    assert max(abs(d) for d in deviations) <= 50_000
+    assert np.std(deviations) == pytest.approx(100_000 / math.sqrt(12), rel=0.05)  # uniform ±50 µs
+
+
+def test_a_realistic_run_is_reproducible_from_its_seed():
+    p = default_params()
+    runs = []
+    for _ in range(2):
+        ax = SimulatedAxis(_realistic("warm-up"), p, T0)
+        samples = []
+        for sp in _sine_setpoints(p, 2000):
+            samples.append(ax.read())
+            ax.apply(sp)
+        runs.append(samples)
+    assert runs[0] == runs[1]
+
+
+def test_the_coloured_noise_has_its_std_and_its_corner():
+    import random
+
+    from axisflow.acquisition.drives.sim_axis import _ColouredNoise
+
+    noise = _ColouredNoise(0.01, 20.0)
+    rng = random.Random(3)
+    x = np.array([noise.next(rng.gauss(0.0, 1.0)) for _ in range(400_000)])[1000:]
+    rho = math.exp(-2 * math.pi * 20.0 * 1e-3)
+    assert np.std(x) == pytest.approx(0.01, rel=0.05)
+    assert np.corrcoef(x[:-1], x[1:])[0, 1] == pytest.approx(rho, abs=0.01)
+
+
+def test_cogging_shows_in_the_current_the_loop_spends_against_it():
+    """Moving slowly (cogging at ~1.9 Hz, well inside the 20 Hz loop), the drive's current cancels the
+    cogging torque: the measured torque carries −A·sin(24·θ + φ) of the motor angle."""
+    from axisflow.acquisition.drives.plant import CoggingConfig, TorqueSensorConfig
+
+    p = default_params()
+    cogging = CoggingConfig(orders=(24,), amplitudes_nm=(0.02,), phases_rad=(0.4,))
+    plant = _realistic(x0=0.3, cogging=cogging, current_loop=None, belt=None, stroke_friction=None,
+                       torque_sensor=TorqueSensorConfig(0.0, 1))  # fmt: skip
+    ax = SimulatedAxis(plant, p, T0)
+    v = 0.002
+    angle, torque = [], []
+    for k in range(10_000):
+        s = ax.read()
+        x = 0.3 + v * k * 1e-3
+        ax.apply(Setpoint(x, v, 0.0, float(p.a1 + p.a2 * v + p.a3 * math.atan(p.a4 * v))))
+        if s is not None and k > 2000:
+            angle.append(ax.mechanics.motor_x * p.i_r / p.r)
+            torque.append(s.motor_torque_nm)
+    theta, tau = np.array(angle), np.array(torque) - np.mean(torque)
+    basis = np.column_stack([np.sin(24 * theta + 0.4), np.cos(24 * theta + 0.4)])
+    coef, *_ = np.linalg.lstsq(basis, tau, rcond=None)
+    assert coef[0] == pytest.approx(-0.02, rel=0.15) and abs(coef[1]) < 0.005
+
+
+def test_the_belt_stretches_by_the_friction_over_its_stiffness_at_constant_speed():
+    p = default_params()
+    plant = _realistic(x0=0.2, stroke_friction=None, cogging=None, current_loop=None)
+    ax = SimulatedAxis(plant, p, T0)
+    v = 0.3
+    for k in range(1500):
+        ax.read()
+        ax.apply(Setpoint(0.2 + v * k * 1e-3, v, 0.0, float(p.a1 + p.a2 * v + p.a3 * math.atan(p.a4 * v))))
+    truth = plant.axis
+    friction = truth.a1 + truth.a2 * ax.velocity_m_s + truth.a3 * math.atan(truth.a4 * ax.velocity_m_s)
+    k = plant.belt.stiffness_n_m(ax.position_m, truth.L)
+    assert ax.velocity_m_s == pytest.approx(v, rel=0.01)
+    assert ax.mechanics.stretch_m() == pytest.approx(friction / k, rel=0.03)
+
+
+def test_the_warm_up_plant_warms_and_its_true_friction_falls():
+    p = default_params()
+    ax = SimulatedAxis(_realistic("warm-up"), p, T0)
+    cold = ax.true_params()
+    assert cold.a2 == ax.plant.axis.a2 and ax.temperature_c == 20.0
+    for sp in _sine_setpoints(p, 30_000, amplitude=0.3, hz=0.6):
+        ax.read()
+        ax.apply(sp)
+    now = ax.true_params()
+    assert ax.temperature_c > 21.0
+    assert now.a2 < cold.a2 and now.a1 != cold.a1 and now.a4 == cold.a4
+    assert now.a2 == pytest.approx(cold.a2 * math.exp(-0.012 * (ax.temperature_c - 20.0)), rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("x", "v", "match"),
+    [
+        (5.0, 0.0, r"holds x = 5 m, outside the stroke \[0, 0.8\] m"),
+        (-0.1, 0.0, r"holds x = -0.1 m, outside the stroke \[0, 0.8\] m"),
+        (0.4, 100.0, r"holds v = 100 m/s, beyond ±1.65 m/s \(v_max 1.5 m/s \+ 10%\)"),
+    ],
+)
+def test_a_state_file_outside_the_stroke_or_the_speed_limit_is_refused_untouched(tmp_path, x, v, match):
+    import struct
+
+    p = default_params()
+    state = tmp_path / "plant.state"
+    state.write_bytes(struct.pack("<dd", x, v))
+    before = state.read_bytes()
+    with pytest.raises(PlantError, match=match):
+        SimulatedAxis(load_plant(None, p), p, 0, state_path=state)
+    assert state.read_bytes() == before

@@ -213,3 +213,20 @@ def test_plan_record_round_trip_and_reference_codec():
         0, "a0", 1, "", "", 0, "min-time", "poly3", "ipopt", 0.9, 0, 0.1, 0.3, 1, "signed", 30, 0, "x", 9, 0
     )
     assert PlanRecord.decode(empty.encode()).certificate == {}
+
+
+def test_drive_info_round_trip_and_reference_codec():
+    from axisflow.acquisition.wire.drive_info import DRIVE_INFO_TYPE, DriveInfo
+
+    info = DriveInfo(
+        1_700_000_000_250_000_000, "a0", "simulated", "realistic", "packaged plant_realistic.toml"
+    )
+    data = info.encode()
+    assert DriveInfo.decode(data) == info
+    ref = _reference(DRIVE_INFO_TYPE)(data)
+    assert (ref.header.frame_id, ref.drive, ref.profile, ref.source) == (
+        "a0", "simulated", "realistic", "packaged plant_realistic.toml"
+    )  # fmt: skip
+    assert ref.header.stamp.sec * 10**9 + ref.header.stamp.nanosec == info.stamp_ns
+    assert info.describe() == "simulated axis, plant realistic (packaged plant_realistic.toml)"
+    assert DriveInfo(0, "a0", "acme servo X1").describe() == "acme servo X1"

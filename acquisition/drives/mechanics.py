@@ -1,0 +1,132 @@
+"""The simulated axis's mechanics: what moves when the motor pushes, integrated a few kHz.
+
+Two models, both advanced one 1 ms tick at a time with ``substeps`` semi-implicit Euler steps and a
+constant motor force F [N] (the motor torque seen at the cart, τ·i_r/r) over the tick:
+
+* :class:`RigidAxis` — eq. (1) of the paper: M_eq·ẍ = F − F_c(ẋ), F_c the friction law of
+  :mod:`axisflow.model.friction`. Friction is Karnopp-style at rest: the cart sticks while |F| ≤ a1,
+  and the velocity is clamped to 0 when it would change sign within a step.
+* :class:`BeltAxis` — the same axis with an elastic belt between the drive pulley and the cart: the
+  rotating parts (rotor, gearbox, pulleys: M_r = M_eq − m, referred to the belt) and the cart (m) are
+  two masses joined by a spring-damper,
+
+      M_r·ẍ_m = F − F_b,    m·ẍ_c = F_b − F_c(ẋ_c),    F_b = k(x_c)·(x_m − x_c) + c·(ẋ_m − ẋ_c),
+
+  k from :meth:`~axisflow.acquisition.drives.plant.BeltConfig.stiffness_n_m` (evaluated once per
+  tick), friction acting on the cart (Karnopp as above, with the belt force in place of F). The motor
+  encoder sees x_m; the cart lags it by the belt's stretch. At low frequencies the two masses move
+  together and eq. (1) holds with M_eq = M_r + m.
+
+The stroke ends at 0 and L are hard stops for the cart (position clamped, velocity zeroed).
+
+Both loops inline the friction law for speed (the integrator runs ~4000 steps per second of drive time
+in pure Python, where numpy on scalars costs several times more); tests/acquisition/drives hold each
+copy to the model's law.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ...model import EXECUTION_PERIOD_S, AxisParams
+from .plant import BeltConfig
+
+
+class RigidAxis:
+    """eq. (1), rigid (see the module docstring); ``x``, ``v``: the cart's position [m] and velocity [m/s]."""
+
+    def __init__(self, axis: AxisParams, substeps: int, position_m: float) -> None:
+        self.axis = axis
+        self.x = position_m
+        self.v = 0.0
+        self._M = axis.M_eq
+        self._substeps = substeps
+        self._dt = EXECUTION_PERIOD_S / substeps
+
+    @property
+    def motor_x(self) -> float:
+        """The pulley's position in cart metres: the cart's (the belt does not stretch)."""
+        return self.x
+
+    @property
+    def motor_v(self) -> float:
+        return self.v
+
+    def set_state(self, position_m: float, velocity_m_s: float) -> None:
+        self.x, self.v = position_m, velocity_m_s
+
+    def advance(self, force_n: float, a1: float, a2: float, a3: float, a4: float) -> None:
+        """One tick under the motor force ``force_n`` [N] with the friction a1…a4 of this tick."""
+        x, v, dt, M, L = self.x, self.v, self._dt, self._M, self.axis.L
+        for _ in range(self._substeps):
+            if v == 0.0:
+                if -a1 <= force_n <= a1:
+                    continue  # static friction holds the cart
+                direction = 1.0 if force_n > 0.0 else -1.0
+                v = (force_n - a1 * direction) / M * dt
+            else:
+                # the friction law of axisflow.model.friction, inlined (module docstring)
+                friction = a1 * math.copysign(1.0, v) + a2 * v + a3 * math.atan(a4 * v)
+                v_next = v + (force_n - friction) / M * dt
+                v = 0.0 if v_next * v < 0.0 else v_next
+            x += v * dt
+            if x < 0.0:
+                x, v = 0.0, 0.0
+            elif x > L:
+                x, v = L, 0.0
+        self.x, self.v = x, v
+
+
+class BeltAxis:
+    """The two-mass axis with an elastic belt (see the module docstring). ``x``, ``v``: the cart;
+    ``motor_x``, ``motor_v``: the drive pulley's rim (motor side, in cart metres)."""
+
+    def __init__(self, axis: AxisParams, belt: BeltConfig, substeps: int, position_m: float) -> None:
+        self.axis = axis
+        self.belt = belt
+        self.x = self.motor_x = position_m
+        self.v = self.motor_v = 0.0
+        self.m = axis.m
+        self.m_rotating = axis.M_eq - axis.m
+        m_reduced = self.m * self.m_rotating / (self.m + self.m_rotating)
+        k_mid = belt.stiffness_n_m(0.5 * axis.L, axis.L)
+        self.damping_n_s_m = 2.0 * belt.damping_ratio * math.sqrt(k_mid * m_reduced)
+        self._near = belt.end_span_m
+        self._far = 2.0 * axis.L + 3.0 * belt.end_span_m
+        self._substeps = substeps
+        self._dt = EXECUTION_PERIOD_S / substeps
+
+    def set_state(self, position_m: float, velocity_m_s: float) -> None:
+        """Both masses at ``position_m`` moving at ``velocity_m_s``, the belt unstretched."""
+        self.x = self.motor_x = position_m
+        self.v = self.motor_v = velocity_m_s
+
+    def stretch_m(self) -> float:
+        """x_m − x_c: how far the motor side leads the cart [m]."""
+        return self.motor_x - self.x
+
+    def advance(self, force_n: float, a1: float, a2: float, a3: float, a4: float) -> None:
+        """One tick under the motor force ``force_n`` [N] with the cart's friction a1…a4 of this tick."""
+        x, v, xm, vm = self.x, self.v, self.motor_x, self.motor_v
+        dt, m, m_r, c, L = self._dt, self.m, self.m_rotating, self.damping_n_s_m, self.axis.L
+        k = self.belt.spring_rate_n * (1.0 / (x + self._near) + 1.0 / (self._far - x))
+        for _ in range(self._substeps):
+            belt = k * (xm - x) + c * (vm - v)
+            vm += (force_n - belt) / m_r * dt
+            xm += vm * dt
+            if v == 0.0:
+                if -a1 <= belt <= a1:
+                    continue  # static friction holds the cart
+                direction = 1.0 if belt > 0.0 else -1.0
+                v = (belt - a1 * direction) / m * dt
+            else:
+                # the friction law of axisflow.model.friction, inlined (module docstring)
+                friction = a1 * math.copysign(1.0, v) + a2 * v + a3 * math.atan(a4 * v)
+                v_next = v + (belt - friction) / m * dt
+                v = 0.0 if v_next * v < 0.0 else v_next
+            x += v * dt
+            if x < 0.0:
+                x, v = 0.0, 0.0
+            elif x > L:
+                x, v = L, 0.0
+        self.x, self.v, self.motor_x, self.motor_v = x, v, xm, vm
