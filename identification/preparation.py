@@ -129,7 +129,9 @@ def prepare(signals: JointSignals, settings: PreparationSettings, effort_limit: 
     v = np.gradient(x, signals.t_s)
     a = np.gradient(v, signals.t_s)
     t = signals.t_s
-    inside = (t >= t[0] + settings.trim_s) & (t <= t[-1] - settings.trim_s)
+    trim = round(settings.trim_s * rate)  # by index: the grid's fitted times differ in the last bits
+    inside = np.zeros(t.size, dtype=bool)
+    inside[trim : t.size - trim] = True
     guard = round(settings.guard_s * rate)
     still = _dilate(np.abs(v) < settings.stationary_speed_m_s, guard)
     effort = np.abs(signals.force_n * signals.effort_per_force)

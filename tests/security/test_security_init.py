@@ -113,7 +113,7 @@ def test_only_the_planner_may_put_moves_and_stops_and_the_recorder_puts_nothing(
     assert puts == {
         "planner": ["axisflow/*/stop", "axisflow/*/trajectory"],
         "planner-cell2": ["axisflow/*/stop", "axisflow/*/trajectory"],
-        "bridge": ["axisflow/*/event", "axisflow/*/setpoint", "axisflow/*/state"],
+        "bridge": ["axisflow/*/drive", "axisflow/*/event", "axisflow/*/setpoint", "axisflow/*/state"],
         "recorder": [],
     }
     assert set(ROLE_GRANTS) == {"planner", "bridge", "recorder"}
