@@ -44,7 +44,7 @@ from ...model.params import params_from_mapping
 from ...model.toml_file import read_toml
 from ..errors import PlantError
 from ..wire.messages import AxisSample
-from .drive import Setpoint
+from .drive import AlwaysReady, Setpoint
 
 DEFAULT_PLANT_RESOURCE = "default_plant.toml"
 
@@ -186,7 +186,7 @@ def moving_friction(v: float, p: AxisParams) -> float:
     return p.a1 * math.copysign(1.0, v) + p.a2 * v + p.a3 * math.atan(p.a4 * v)
 
 
-class SimulatedAxis:
+class SimulatedAxis(AlwaysReady):
     """A :class:`~axisflow.acquisition.drives.drive.Drive` backed by the integrated plant (see module doc)."""
 
     def __init__(
