@@ -31,12 +31,17 @@ class CanopenMaster:
     network: CanopenNetwork
     cycle: SyncCycle
     drives: list[CanopenDrive] = field(default_factory=list)
+    closed: bool = False
 
     @property
     def infos(self) -> list[DriveInfo]:
         return [d.info for d in self.drives]
 
     def close(self) -> None:
+        """Stop the drives (their own quick stop, then switched off) and release the bus (once)."""
+        if self.closed:
+            return
+        self.closed = True
         try:
             self.cycle.shutdown()
         finally:
