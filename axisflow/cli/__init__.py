@@ -27,6 +27,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "pareto_cmd",
     "bench_cmd",
     "bridge_cmd",
+    "drive_sim_cmd",
     "record_cmd",
     "excite_cmd",
     "identify_cmd",

@@ -16,13 +16,18 @@ Pacing (``pacing`` in the configuration):
 
 :meth:`SyncCycle.enable` runs cycles of its own before the bridge starts (the state machine walk of
 every drive to operation enabled); :meth:`SyncCycle.shutdown` after it (the drives' own quick stop,
-then switched off).
+then switched off). A drive that was told the SYNC period (0x1006) watches for SYNC and faults when it
+stops: at wall pacing :meth:`SyncCycle.idle` keeps the SYNC going (holding every drive where it is)
+while the bridges are being set up.
 """
 
 from __future__ import annotations
 
 import logging
+import threading
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 
 import canopen
 
@@ -79,6 +84,33 @@ class SyncCycle:
                 )
             if not answered:
                 self.waits_timed_out += 1
+
+    @contextmanager
+    def idle(self) -> Iterator[None]:
+        """At wall pacing, SYNC cycles from a thread of their own while the block runs (the drives hold
+        their last target; drive time stands still until the bridges' loop starts); nothing at lock-step,
+        where nobody watches the SYNC's period."""
+        if self.lockstep:
+            yield
+            return
+        done = threading.Event()
+        thread = threading.Thread(
+            target=self._idle_cycles, args=(done,), name="canopen-idle-sync", daemon=True
+        )
+        thread.start()
+        try:
+            yield
+        finally:
+            done.set()
+            thread.join()
+
+    def _idle_cycles(self, done: threading.Event) -> None:
+        period_s = self.clock.ticks_per_cycle * 1e-3
+        deadline = time.monotonic()
+        while not done.is_set():
+            self.sync()
+            deadline += period_s
+            done.wait(max(0.0, deadline - time.monotonic()))
 
     # ---- before and after the bridge ----------------------------------------------------------------
     def _own_cycle(self, deadline: float) -> None:
