@@ -43,6 +43,8 @@ COMMAND_MODULES: tuple[str, ...] = (
 )
 
 EXIT_USER_ERROR = 2
+QUIET_LIBRARIES = ("canopen", "can")
+"""libraries whose own log lines are shown only with -v"""
 
 
 class _Parser(argparse.ArgumentParser):
@@ -82,6 +84,10 @@ def _main(argv: Sequence[str] | None) -> int:
         level=logging.WARNING - 10 * min(args.verbose, 2),
         format="%(asctime)s %(levelname)s %(name)s: %(message)s",
     )
+    if not args.verbose:
+        # canopen and python-can log every SDO retry and abort they make; our errors say what they meant
+        for name in QUIET_LIBRARIES:
+            logging.getLogger(name).setLevel(logging.CRITICAL)
     try:
         return int(args.func(args) or 0)
     except AxisflowError as exc:
