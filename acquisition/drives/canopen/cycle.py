@@ -71,9 +71,10 @@ class SyncCycle:
         for drive in self.drives:
             for cob_id, data in drive.rpdo_frames():
                 send(cob_id, data)
-        send(SYNC_COB_ID, b"")
+        # the tick is set before the SYNC goes out: a drive's answer can come before send() returns
         now = time.monotonic()
         self.clock.sync_tick, self.clock.sync_sent_s = tick, now
+        send(SYNC_COB_ID, b"")
         for drive in self.drives:
             drive.on_sync(tick, now)
         self.syncs += 1
