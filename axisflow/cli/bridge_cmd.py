@@ -13,6 +13,7 @@ from ..acquisition.bridge.bridge import Bridge, BridgeConfig, BridgeReport, run_
 from ..acquisition.bridge.move_queue import DEFAULT_JUMP_TOLERANCE_M
 from ..acquisition.bus.session import ZenohOptions, open_session
 from ..acquisition.drives.canopen.config import DriveConfig, Pacing, load_drive_config
+from ..acquisition.drives.canopen.cycle import CycleReport
 from ..acquisition.drives.canopen.master import open_master
 from ..acquisition.drives.canopen.sim_drive import SimulatedDrive
 from ..acquisition.drives.sim_axis import SimulatedAxis, load_plant
@@ -143,8 +144,8 @@ def run(args: argparse.Namespace) -> int:
         )
     configs = [_bridge_config(args, d.axis or args.axis) for d in drives.drives]
     with stop_on_signals() as stop:
-        reports = _run_canopen(args, params, kind, drives, configs, options, stop)
-    _print_reports(args, reports)
+        reports, bus = _run_canopen(args, params, kind, drives, configs, options, stop)
+    _print_reports(args, reports, bus)
     return 0
 
 
@@ -174,7 +175,7 @@ def _run_canopen(
     configs: list[BridgeConfig],
     options: ZenohOptions,
     stop: threading.Event,
-) -> dict[str, BridgeReport]:
+) -> tuple[dict[str, BridgeReport], CycleReport]:
     """Start the drives (hosting simulated ones first for canopen-sim), then one bridge per drive in one
     loop with one SYNC per tick; on the way out the bridges close, then the drives are stopped."""
     with ExitStack() as stack:
@@ -193,19 +194,26 @@ def _run_canopen(
                 for drive, config in zip(master.drives, configs, strict=True)
             ]
             gc.freeze()
+        master.cycle.start_measuring()
         run_bridges(bridges, stop, master.cycle.after_tick)
-        return {b.keys.axis: b.report for b in bridges}
+        return {b.keys.axis: b.report for b in bridges}, master.cycle.report()
 
 
-def _print_reports(args: argparse.Namespace, reports: dict[str, BridgeReport]) -> None:
+def _print_reports(
+    args: argparse.Namespace, reports: dict[str, BridgeReport], bus: CycleReport | None = None
+) -> None:
+    """One bridge: its report (with ``bus``, the CAN cycle's); several: ``bridges`` by axis and ``bus``."""
     if args.json:
-        out = (
-            next(iter(reports.values())).to_dict()
-            if len(reports) == 1
-            else {"bridges": {axis: r.to_dict() for axis, r in reports.items()}}
-        )
+        if len(reports) == 1:
+            out = next(iter(reports.values())).to_dict()
+        else:
+            out = {"bridges": {axis: r.to_dict() for axis, r in reports.items()}}
+        if bus is not None:
+            out["bus"] = bus.to_dict()
         print(json.dumps(out, indent=2), flush=True)
         return
     for axis, report in reports.items():
         prefix = "" if len(reports) == 1 else f"axis {axis}: "
         print(prefix + report.summary(), flush=True)
+    if bus is not None:
+        print(bus.summary(), flush=True)

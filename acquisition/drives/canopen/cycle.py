@@ -28,10 +28,12 @@ import threading
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
+from dataclasses import dataclass
 
 import canopen
 
 from ...errors import DriveError
+from ...histogram import DurationHistogram, DurationStats
 from ..drive import STOPPING_EVENTS
 from .adapter import CanopenDrive
 from .clock import BusClock
@@ -43,6 +45,51 @@ log = logging.getLogger(__name__)
 
 SHUTDOWN_TIMEOUT_S = 3.0
 """how long the drives' own quick stop may take at shutdown before they are switched off anyway"""
+LATE_FACTOR = 1.5
+"""a SYNC that follows the previous one by more than this many periods is late"""
+MISSED_FACTOR = 2.0
+"""… and by more than this many, a drive's SYNC watch counts a SYNC as missing"""
+
+
+@dataclass(frozen=True)
+class CycleReport:
+    """What the SYNC of a bus did while the bridges ran."""
+
+    cycle_hz: int
+    pacing: str
+    syncs: int
+    interval_jitter: DurationStats | None
+    """|SYNC interval − period| [µs] (wall pacing)"""
+    late_cycles: int
+    """SYNC intervals longer than :data:`LATE_FACTOR` periods"""
+    missed_cycles: int
+    """SYNC intervals longer than :data:`MISSED_FACTOR` periods: a drive's SYNC watch would count them"""
+    waits_timed_out: int
+    """lock-step cycles in which a drive's TPDOs did not come within its timeout"""
+
+    def to_dict(self) -> dict[str, object]:
+        return {
+            "cycle_hz": self.cycle_hz,
+            "pacing": self.pacing,
+            "syncs": self.syncs,
+            "interval_jitter": self.interval_jitter.to_dict() if self.interval_jitter else None,
+            "late_cycles": self.late_cycles,
+            "missed_cycles": self.missed_cycles,
+            "waits_timed_out": self.waits_timed_out,
+        }
+
+    def summary(self) -> str:
+        line = f"  CAN bus: {self.syncs} SYNCs at {self.cycle_hz} Hz ({self.pacing})"
+        j = self.interval_jitter
+        if j is not None and j.count:
+            line += (
+                f"; interval jitter p50 {j.p50_us:.0f} µs, p99 {j.p99_us:.0f} µs, max {j.max_us:.0f} µs; "
+                f"{self.late_cycles} late (> {LATE_FACTOR:g} periods), {self.missed_cycles} missed "
+                f"(> {MISSED_FACTOR:g})"
+            )
+        if self.waits_timed_out:
+            line += f"; {self.waits_timed_out} lock-step waits timed out"
+        return line
 
 
 class SyncCycle:
@@ -57,6 +104,24 @@ class SyncCycle:
         self.syncs = 0
         self.waits_timed_out = 0
         """lock-step cycles in which some drive's TPDOs did not come within its timeout"""
+        self._period_ns = self.clock.ticks_per_cycle * 1_000_000
+        self._intervals = DurationHistogram()
+        self._late = self._missed = 0
+        self._last_sync_ns: int | None = None
+
+    def start_measuring(self) -> None:
+        """From now on (the bridges' loop) keep the SYNC intervals (:meth:`report`)."""
+        self._intervals = DurationHistogram()
+        self.syncs = self.waits_timed_out = self._late = self._missed = 0
+        self._last_sync_ns = None
+
+    def report(self) -> CycleReport:
+        wall = not self.lockstep
+        return CycleReport(
+            self.config.cycle_hz, self.config.pacing.value, self.syncs,
+            self._intervals.stats() if wall else None, self._late if wall else 0, self._missed if wall else 0,
+            self.waits_timed_out,
+        )  # fmt: skip
 
     def after_tick(self) -> None:
         """The bridge stepped every drive's tick: send the cycle if this tick has one; next tick."""
@@ -72,9 +137,16 @@ class SyncCycle:
             for cob_id, data in drive.rpdo_frames():
                 send(cob_id, data)
         # the tick is set before the SYNC goes out: a drive's answer can come before send() returns
-        now = time.monotonic()
+        now_ns = time.monotonic_ns()
+        now = now_ns * 1e-9
         self.clock.sync_tick, self.clock.sync_sent_s = tick, now
         send(SYNC_COB_ID, b"")
+        if self._last_sync_ns is not None:
+            interval = now_ns - self._last_sync_ns
+            self._intervals.add_ns(abs(interval - self._period_ns))
+            self._late += interval > LATE_FACTOR * self._period_ns
+            self._missed += interval > MISSED_FACTOR * self._period_ns
+        self._last_sync_ns = now_ns
         for drive in self.drives:
             drive.on_sync(tick, now)
         self.syncs += 1
