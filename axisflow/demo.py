@@ -70,6 +70,10 @@ class DemoSettings:
     lookahead: int = DEFAULT_LOOKAHEAD
     lookahead_s: float = DEFAULT_LOOKAHEAD_S
     params_path: str | None = None
+    drive: str = "sim"
+    """the bridge's drive: ``sim`` (the built-in simulated axis) or ``canopen-sim`` (a simulated CiA 402
+    drive on an in-process CAN bus in the bridge's process: encoder counts, per-mille torque, one bus
+    cycle of latency)"""
 
 
 @dataclass
@@ -141,9 +145,18 @@ def run_demo(
     children = _Children(out)
     params_args = ["--params", settings.params_path] if settings.params_path else []
     try:
-        progress(f"session folder {out}; bridge (simulated axis, --speed {settings.speed:g}) on {endpoint}")
+        what = "simulated axis" if settings.drive == "sim" else f"drive {settings.drive}"
+        progress(f"session folder {out}; bridge ({what}, --speed {settings.speed:g}) on {endpoint}")
+        drive_args = ["--drive", settings.drive]
         bridge = children.start(
-            "bridge", "bridge", "--sim", "--speed", f"{settings.speed:g}", "--listen", endpoint, *params_args
+            "bridge",
+            "bridge",
+            *drive_args,
+            "--speed",
+            f"{settings.speed:g}",
+            "--listen",
+            endpoint,
+            *params_args,
         )
         with open_session(ZenohOptions(connect=(endpoint,))) as session:
             keys = AxisKeys()
@@ -270,6 +283,7 @@ def _summary_json(report: DemoReport, settings: DemoSettings) -> dict:
         "waypoints": settings.waypoints,
         "seed": settings.seed,
         "bridge_speed": settings.speed,
+        "drive": settings.drive,
         "solver": settings.solver,
         "wall_time_s": report.wall_time_s,
         "phases_s": report.phases_s,

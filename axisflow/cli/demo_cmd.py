@@ -62,6 +62,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--params", metavar="FILE", default=None, help="nominal axis parameters (default: packaged)"
     )
+    p.add_argument(
+        "--drive",
+        choices=("sim", "canopen-sim"),
+        default="sim",
+        help="the bridge's drive: the built-in simulated axis (default), or a simulated CiA 402 drive over "
+        "CANopen on an in-process bus (counts, per-mille torque; docs/drives.md)",
+    )
     p.set_defaults(func=run)
 
 
@@ -81,11 +88,12 @@ def run(args: argparse.Namespace) -> int:
         lookahead=args.lookahead,
         lookahead_s=args.lookahead_s,
         params_path=args.params,
+        drive=args.drive,
     )
     speed = "as fast as the recorder allows" if args.speed == 0 else f"at {args.speed:g}× real time"
     print(
-        f"axisflow demo: {args.waypoints} way points (the paper: 100), solver {args.solver}, the bridge runs "
-        f"{speed}",
+        f"axisflow demo: {args.waypoints} way points (the paper: 100), solver {args.solver}, drive "
+        f"{args.drive}, the bridge runs {speed}",
         file=sys.stderr,
         flush=True,
     )
