@@ -39,7 +39,10 @@ class CanBus:
             table.setdefault("encoder_counts_per_rev", 131072)
             table.setdefault("pacing", bus.get("pacing", "lockstep"))
             table.setdefault("cycle_hz", bus.get("cycle_hz", 1000))
-            table.setdefault("heartbeat_timeout_ms", 1000)  # the heartbeat thread may lag on a loaded machine
+            # the drive's threads share this process and a loaded machine: generous, except where a test
+            # waits for a silence to be noticed
+            table.setdefault("heartbeat_timeout_ms", 2000)
+            table.setdefault("pdo_timeout_ms", 1000)
         return config_from_mapping(
             {"can": {"interface": "virtual", "channel": self.channel}, "drive": tables}
         )

@@ -30,7 +30,9 @@ node_id = 5
 cycle_hz = 1000
 encoder_counts_per_rev = 131072
 pacing = "lockstep"
-heartbeat_timeout_ms = 1000
+# two Python processes on a machine others load too: a lock-step wait may last; only a dead drive counts
+pdo_timeout_ms = 2000
+heartbeat_timeout_ms = 2000
 """
 
 
@@ -64,10 +66,9 @@ def test_inside_the_namespace(tmp_path, cli, port):
     drive = cli.start("drive-sim", "--drive-config", str(config), "--fault-at", "4:4310")
     bridge = cli.start("bridge", "--drive-config", str(config), "--listen", f"tcp/127.0.0.1:{port}", "--json")
     keys = AxisKeys("a0")
-    with (
-        open_session(ZenohOptions.loopback(connect_port=port)) as session,
-        MoveSender(session, keys) as sender,
-    ):
+    # the bridge's start-up (imports, the drive's SDO start-up) may take a while on a loaded machine
+    options = ZenohOptions(mode="peer", connect=(f"tcp/127.0.0.1:{port}",), connect_wait_s=60.0)
+    with open_session(options) as session, MoveSender(session, keys) as sender:
         events = session.declare_subscriber(keys.event, zenoh.handlers.FifoChannel(10_000))
         assert sender.wait_for_bridge(30.0), "no bridge"
         move = sender.send(0.0, 0.3, 0.8)
