@@ -54,3 +54,12 @@ def zenoh_reason(exc: BaseException) -> str:
     """A Zenoh error as one line, without the Rust source location it ends with."""
     text = re.sub(r"\s+at /\S+\.rs:\d+\.?\s*$", "", str(exc).strip())
     return " ".join(part.strip(" |") for part in text.splitlines() if part.strip(" |"))
+
+
+class DriveError(AcquisitionError):
+    """A drive cannot be reached, configured, enabled or kept running (no answer at its node id, not a
+    CiA 402 drive, in fault, its bus cannot be opened)."""
+
+
+class DriveConfigError(DriveError, ValueError):
+    """A drive configuration file is invalid (unknown key, bad value, wrong range)."""

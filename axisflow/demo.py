@@ -74,6 +74,10 @@ class DemoSettings:
     params_path: str | None = None
     plant_profile: str = DEFAULT_PROFILE
     """the simulated axis's packaged plant profile (ideal, realistic, warm-up)"""
+    drive: str = "sim"
+    """the bridge's drive: ``sim`` (the built-in simulated axis) or ``canopen-sim`` (a simulated CiA 402
+    drive on an in-process CAN bus in the bridge's process: encoder counts, per-mille torque, one bus
+    cycle of latency)"""
 
 
 @dataclass
@@ -149,12 +153,13 @@ def run_demo(
     plant = load_profile(settings.plant_profile, nominal)
     report.plant = plant.describe()
     try:
+        what = "simulated axis" if settings.drive == "sim" else f"drive {settings.drive}"
         progress(
-            f"session folder {out}; bridge (simulated axis, plant {report.plant}, "
-            f"--speed {settings.speed:g}) on {endpoint}"
+            f"session folder {out}; bridge ({what}, plant {report.plant}, --speed {settings.speed:g}) "
+            f"on {endpoint}"
         )
         bridge = children.start(
-            "bridge", "bridge", "--sim", "--plant-profile", settings.plant_profile,
+            "bridge", "bridge", "--drive", settings.drive, "--plant-profile", settings.plant_profile,
             "--speed", f"{settings.speed:g}", "--listen", endpoint, *params_args,
         )  # fmt: skip
         with open_session(ZenohOptions(connect=(endpoint,))) as session:
@@ -283,6 +288,7 @@ def _summary_json(report: DemoReport, settings: DemoSettings) -> dict:
         "seed": settings.seed,
         "bridge_speed": settings.speed,
         "plant": {"profile": settings.plant_profile, "description": report.plant},
+        "drive": settings.drive,
         "solver": settings.solver,
         "wall_time_s": report.wall_time_s,
         "phases_s": report.phases_s,

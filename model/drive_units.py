@@ -5,14 +5,20 @@ Drives count and scale in their own units (CiA 402 and most vendors' drives):
 * **position** in encoder counts of the motor shaft: ``counts_per_rev`` counts per motor revolution
   (0x6064 position actual value, 0x607A target position), counted from ``zero_counts`` at x = 0;
 * **velocity** in counts per second (0x606C velocity actual value, 0x60B1 velocity offset);
+* **acceleration** in counts per second squared (0x6085 quick-stop deceleration);
 * **torque** in per mille (0.1 %) of the motor's rated torque (0x6076, given in mN·m): 0x6077 torque
   actual value, 0x60B2 torque offset, both signed 16-bit.
 
-Through the gearbox (ratio i_r) and the pulley (radius r) of the axis model:
+Through the gearbox (ratio i_r) and the pulley (radius r) of the axis model, with the polarity
+``direction`` (+1: the counts grow as the cart moves towards +x; −1: the motor is mounted the other way
+round, and a positive drive torque pushes the cart towards −x):
 
-    x = 2π·r·(counts − zero_counts) / (counts_per_rev·i_r)      [m]
-    ẋ = 2π·r·(counts/s) / (counts_per_rev·i_r)                  [m/s]
-    τ_m = per_mille / 1000 · rated_torque                         [N·m]
+    x = direction · 2π·r·(counts − zero_counts) / (counts_per_rev·i_r)      [m]
+    ẋ = direction · 2π·r·(counts/s) / (counts_per_rev·i_r)                  [m/s]
+    ẍ = direction · 2π·r·(counts/s²) / (counts_per_rev·i_r)                 [m/s²]
+    τ_m = direction · per_mille / 1000 · rated_torque                         [N·m]
+
+Distances (a following-error window) have no sign and no zero: ``distance_counts``.
 
 The drive reports integers; going from SI to drive units rounds to the nearest integer (and saturates
 torques to the signed 16-bit range), so a round trip is exact to half a unit. Every adapter, simulated
@@ -36,6 +42,8 @@ INT16_MAX = 32767
 """largest magnitude of a signed 16-bit object (torque actual value, torque offset)"""
 INT32_MIN, INT32_MAX = -(1 << 31), (1 << 31) - 1
 """range of a signed 32-bit object (position, velocity)"""
+UINT32_MAX = (1 << 32) - 1
+"""largest unsigned 32-bit object (a following-error window)"""
 
 ArrayLike = float | int | np.ndarray
 
@@ -59,7 +67,9 @@ class DriveUnits:
     r: float
     """pulley radius [m]"""
     zero_counts: int = 0
-    """the position count at x = 0"""
+    """the position count at x = 0 (a drive's counts start wherever it was switched on or homed)"""
+    direction: int = 1
+    """polarity: +1 if the counts grow towards +x, −1 if they grow towards −x"""
 
     def __post_init__(self) -> None:
         if isinstance(self.counts_per_rev, bool) or not isinstance(self.counts_per_rev, int):
@@ -78,13 +88,20 @@ class DriveUnits:
             raise ParameterError(
                 f"zero_counts = {self.zero_counts} counts is outside the signed 32-bit range"
             )
+        if self.direction not in (1, -1) or isinstance(self.direction, bool):
+            raise ParameterError(f"direction = {self.direction!r} must be 1 or -1")
 
     @classmethod
     def for_axis(
-        cls, params: AxisParams, counts_per_rev: int, rated_torque_nm: float, zero_counts: int = 0
+        cls,
+        params: AxisParams,
+        counts_per_rev: int,
+        rated_torque_nm: float,
+        zero_counts: int = 0,
+        direction: int = 1,
     ) -> DriveUnits:
         """The units of a drive on the axis of ``params`` (its i_r and r)."""
-        return cls(counts_per_rev, rated_torque_nm, params.i_r, params.r, zero_counts)
+        return cls(counts_per_rev, rated_torque_nm, params.i_r, params.r, zero_counts, direction)
 
     @cached_property
     def metres_per_count(self) -> float:
@@ -99,20 +116,29 @@ class DriveUnits:
     # ---- drive → SI -------------------------------------------------------------------------------
     def position_m(self, counts: ArrayLike) -> ArrayLike:
         """Cart position [m] of a position count."""
-        return (counts - self.zero_counts) * self.metres_per_count
+        return (counts - self.zero_counts) * (self.direction * self.metres_per_count)
 
     def velocity_m_s(self, counts_per_s: ArrayLike) -> ArrayLike:
         """Cart velocity [m/s] of a velocity in counts/s."""
-        return counts_per_s * self.metres_per_count
+        return counts_per_s * (self.direction * self.metres_per_count)
+
+    def acceleration_m_s2(self, counts_per_s2: ArrayLike) -> ArrayLike:
+        """Cart acceleration [m/s²] of an acceleration in counts/s²."""
+        return counts_per_s2 * (self.direction * self.metres_per_count)
 
     def torque_nm(self, per_mille: ArrayLike) -> ArrayLike:
-        """Motor torque [N·m] of a torque in per mille of the rated torque."""
-        return per_mille * self.newton_metres_per_unit
+        """Motor torque [N·m] (positive: pushing towards +x) of a torque in per mille of the rated."""
+        return per_mille * (self.direction * self.newton_metres_per_unit)
+
+    def distance_m(self, counts: ArrayLike) -> ArrayLike:
+        """Length [m] of a distance of ``counts`` counts (no sign, no zero: a window or a tolerance)."""
+        return counts * self.metres_per_count
 
     # ---- SI → drive (rounded to the drive's integers) --------------------------------------------
     def counts(self, position_m: float) -> int:
         """The position count nearest to ``position_m`` [m]."""
-        return _clamp(round(position_m / self.metres_per_count) + self.zero_counts, INT32_MIN, INT32_MAX)
+        steps = round(self.direction * position_m / self.metres_per_count)
+        return _clamp(steps + self.zero_counts, INT32_MIN, INT32_MAX)
 
     def encoder_counts(self, position_m: float) -> int:
         """The count an incremental encoder shows at ``position_m`` [m]: the one at or below it (scalar,
@@ -121,11 +147,21 @@ class DriveUnits:
 
     def counts_per_s(self, velocity_m_s: float) -> int:
         """The velocity [counts/s] nearest to ``velocity_m_s`` [m/s]."""
-        return _clamp(round(velocity_m_s / self.metres_per_count), INT32_MIN, INT32_MAX)
+        return _clamp(round(self.direction * velocity_m_s / self.metres_per_count), INT32_MIN, INT32_MAX)
+
+    def counts_per_s2(self, acceleration_m_s2: float) -> int:
+        """The acceleration [counts/s²] nearest to ``acceleration_m_s2`` [m/s²]."""
+        steps = round(self.direction * acceleration_m_s2 / self.metres_per_count)
+        return _clamp(steps, INT32_MIN, INT32_MAX)
 
     def per_mille(self, torque_nm: float) -> int:
         """The torque [per mille of rated] nearest to ``torque_nm`` [N·m], saturated to ±32767."""
-        return _clamp(round(torque_nm / self.newton_metres_per_unit), -INT16_MAX, INT16_MAX)
+        steps = round(self.direction * torque_nm / self.newton_metres_per_unit)
+        return _clamp(steps, -INT16_MAX, INT16_MAX)
+
+    def distance_counts(self, distance_m: float) -> int:
+        """The distance [counts] nearest to ``distance_m`` [m] (≥ 0: a window, saturated to 2^32 − 1)."""
+        return _clamp(round(abs(distance_m) / self.metres_per_count), 0, UINT32_MAX)
 
     # ---- quantisation (what a drive would report), in SI -----------------------------------------
     def quantise_position(self, position_m: ArrayLike) -> ArrayLike:

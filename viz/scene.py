@@ -41,6 +41,11 @@ _LEVELS = {
     MoveState.REJECTED: rr.TextLogLevel.ERROR,
     MoveState.DROPPED: rr.TextLogLevel.WARN,
     MoveState.STOPPED: rr.TextLogLevel.WARN,
+    MoveState.FAULT: rr.TextLogLevel.ERROR,
+    MoveState.COMM_LOST: rr.TextLogLevel.ERROR,
+    MoveState.DRIVE_STOPPED: rr.TextLogLevel.ERROR,
+    MoveState.WARNING: rr.TextLogLevel.WARN,
+    MoveState.ENABLED: rr.TextLogLevel.INFO,
 }
 
 

@@ -22,13 +22,23 @@ Every step of a move's life (accepted, rejected with the reason, started, comple
 typed :class:`~axisflow.acquisition.wire.move_status.MoveStatus` on ``<prefix>/<axis>/event``, published
 after the tick's setpoint, at most :data:`STATUSES_PER_TICK` a tick (in order; each names its tick).
 
+A drive that can fault (:mod:`axisflow.acquisition.drives.canopen`) reports events
+(:meth:`Drive.events`); each becomes a status of move 0 with the drive's codes. When the drive stops
+following setpoints (a fault, comm loss, its own stop) the bridge stops the axis — the running move
+STOPPED, the queue DROPPED — refuses moves until a quick stop with ``reset_fault``
+(``axisflow stop --reset-fault``) has brought the drive back (ENABLED), and keeps publishing what it
+knows: a sample only when the drive measured a new one (:meth:`Drive.status`; none while nothing is
+heard from it), a setpoint only when one reaches the drive.
+
 :meth:`Bridge.run` paces the steps: at ``speed`` > 0 tick k starts at ``start + k·1 ms / speed`` on
 the monotonic clock (a late tick runs at once; the schedule does not drift); at ``speed`` 0 ticks run
 back to back and telemetry publishers block when the consumers are full ("as fast as the consumers
 allow"). The stamps are drive time and always advance by exactly 1 ms; the first sample is read once
 the publishers are ready (and the subscribers waited for), so a simulated drive's clock starts with
 the loop. The periods between tick starts are kept in a histogram; their deviation from the nominal
-period is the jitter reported on exit. Tests drive :meth:`Bridge.step` directly.
+period is the jitter reported on exit. Tests drive :meth:`Bridge.step` directly. :func:`run_bridges`
+paces several bridges in one loop (one per drive of a bus, each on its own keys), with a hook after
+each tick (the bus's SYNC).
 """
 
 from __future__ import annotations
@@ -38,6 +48,7 @@ import logging
 import threading
 import time
 from collections import deque
+from collections.abc import Callable, Sequence
 from contextlib import ExitStack
 from dataclasses import dataclass, field
 from functools import partial
@@ -46,7 +57,7 @@ import zenoh
 
 from ...model import EXECUTION_PERIOD_NS, AxisParams, stop_profile, ticks_to_seconds
 from ..bus.publisher import SequencedPublisher, Traffic, wait_for_subscribers
-from ..drives.drive import Drive
+from ..drives.drive import STOPPING_EVENTS, Drive, DriveEvent, DriveEventKind
 from ..errors import AcquisitionError, WireError
 from ..histogram import DurationHistogram, DurationStats
 from ..wire.attachment import unpack_attachment
@@ -73,6 +84,13 @@ STATUSES_PER_TICK = 8
 go out over ~130 ms instead of stalling one tick by ~20 ms). Each carries the tick it happened at."""
 MAX_REPORTED_REJECTIONS = 100
 """rejection texts kept in the report (the first ones; all are counted and each has its status)"""
+_EVENT_STATES = {
+    DriveEventKind.FAULT: MoveState.FAULT,
+    DriveEventKind.COMM_LOST: MoveState.COMM_LOST,
+    DriveEventKind.DRIVE_STOPPED: MoveState.DRIVE_STOPPED,
+    DriveEventKind.WARNING: MoveState.WARNING,
+    DriveEventKind.ENABLED: MoveState.ENABLED,
+}
 _SLEEP_MARGIN_NS = 80_000  # wake this early and spin the rest: time.sleep overshoots ~50–100 µs
 
 
@@ -122,8 +140,11 @@ class BridgeReport:
     moves_missed: int = 0
     """moves lost on the way, from the senders' sequence numbers"""
     quick_stops: int = 0
-    samples_lost: int = 0
-    """ticks whose sample the drive lost on the way (none published)"""
+    stale_ticks: int = 0
+    """ticks without a new sample from the drive (lost on the way, the drive silent, or between the
+    cycles of a drive on a slower bus): none published for them"""
+    drive_faults: int = 0
+    """times the drive stopped following setpoints (fault, comm lost, its own stop)"""
     drive: str = ""
     """what drove the axis (:attr:`BridgeConfig.drive`)"""
     period_jitter: DurationStats | None = None
@@ -139,8 +160,10 @@ class BridgeReport:
             f"  moves: {self.moves_accepted} accepted, {self.moves_completed} completed, "
             f"{self.moves_rejected} rejected, {self.moves_dropped} dropped, {self.moves_missed} missed",
         ]
-        if self.samples_lost:
-            lines.append(f"  samples lost by the drive: {self.samples_lost} of {self.ticks}")
+        if self.stale_ticks:
+            lines.append(f"  ticks without a new sample from the drive: {self.stale_ticks} of {self.ticks}")
+        if self.drive_faults:
+            lines.append(f"  drive: stopped following {self.drive_faults} time(s) (see the event key)")
         if self.period_jitter is not None and self.period_jitter.count:
             j = self.period_jitter
             lines.append(
@@ -159,7 +182,8 @@ class BridgeReport:
             "moves_dropped": self.moves_dropped,
             "moves_missed": self.moves_missed,
             "quick_stops": self.quick_stops,
-            "samples_lost": self.samples_lost,
+            "stale_ticks": self.stale_ticks,
+            "drive_faults": self.drive_faults,
             "drive": self.drive,
             "period_jitter": self.period_jitter.to_dict() if self.period_jitter else None,
             "late_ticks": self.late_ticks,
@@ -215,6 +239,10 @@ class Bridge:
         self._outbox: deque[MoveStatus] = deque()
         """statuses not published yet (at most STATUSES_PER_TICK go out per tick)"""
         self._queue: MoveQueue | None = None
+        self._drive_down: str | None = None
+        """why the drive follows no setpoints (None: it follows); moves are refused meanwhile"""
+        self._reset_sender = ""
+        """the hex id of whoever asked for the running fault reset (its answer carries it)"""
 
     # ---- set-up and tear-down ---------------------------------------------------------------------
     def __enter__(self) -> Bridge:
@@ -257,7 +285,7 @@ class Bridge:
             stack.close()
             raise AcquisitionError(f"the drive of axis {keys.axis} gave no first sample: cannot start")
         self._queue = MoveQueue(
-            self.params, first.position_m, first.stamp_ns, keys.axis, self.config.jump_tolerance_m
+            self.params, first.position_m, self.drive.stamp_ns, keys.axis, self.config.jump_tolerance_m
         )
         return self
 
@@ -284,10 +312,12 @@ class Bridge:
         self._take_stops()
         self._take_moves()
         sample = self.drive.read()
-        if sample is not None:
+        status = self.drive.status()
+        self._take_drive_events(sample.position_m)
+        if status.fresh:
             self._state_pub.put(sample.encode())
         else:
-            self.report.samples_lost += 1
+            self.report.stale_ticks += 1
         step = queue.advance(self.tick)
         for done in step.finished:
             if done.stop is not None:
@@ -297,7 +327,9 @@ class Bridge:
         if step.started is not None:
             q = step.started
             self._status(MoveState.STARTED, q, f"started move {q.command.move_id}")
-        self._setpoint_pub.put(step.setpoint.to_sample(self._stamp(), self.keys.axis, self.params).encode())
+        if status.commanded and status.following:
+            setpoint = step.setpoint.to_sample(self._stamp(), self.keys.axis, self.params)
+            self._setpoint_pub.put(setpoint.encode())
         drive = self.config.drive
         if self._drive_pub is not None and drive is not None and self.tick % DRIVE_INFO_PERIOD == 0:
             info = dataclasses.replace(drive, stamp_ns=self._stamp(), axis=self.keys.axis)
@@ -356,6 +388,9 @@ class Bridge:
             self._pending.popleft()
             cmd, move = received.command, received.move
             assert cmd is not None and move is not None
+            if self._drive_down is not None:
+                self._reject(received, self._refusal())
+                continue
             try:
                 queued = self._queue.enqueue(cmd, move, self.tick, sender)
             except AcquisitionError as exc:
@@ -377,14 +412,21 @@ class Bridge:
             parsed = unpack_attachment(att.to_bytes()) if att is not None else None
             sender = parsed[2] if parsed is not None else b""
             try:
-                reason = QuickStop.decode(sample.payload.to_bytes()).reason
+                request = QuickStop.decode(sample.payload.to_bytes())
+                reason, reset = request.reason, request.reset_fault
             except WireError as exc:
-                reason = f"(undecodable request: {exc})"
+                reason, reset = f"(undecodable request: {exc})", False
             self.report.quick_stops += 1
             log.warning("quick stop at tick %d: %s", self.tick, reason or "no reason given")
             for received, _deadline in self._pending:
                 self._reject(received, "a quick stop was requested before it was queued")
             self._pending.clear()
+            if self._drive_down is not None:
+                why = f"quick stop: the drive follows no setpoints ({self._drive_down}); it stops on its own"
+                self._axis_status(MoveState.STOPPED, sender.hex(), why)
+                if reset:
+                    self._reset_fault(sender)
+                continue
             outcome = self._queue.quick_stop(self.tick, sender)
             self._dropped(outcome.dropped, "quick stop")
             if outcome.interrupted is not None:
@@ -404,6 +446,62 @@ class Bridge:
                 )
                 self._publish(MoveStatus(self._stamp(), self.keys.axis, MoveState.STOPPED, STOP_MOVE_ID,
                                          self.tick, self.tick, ends, sender.hex(), text))  # fmt: skip
+            if reset:
+                self._reset_fault(sender)
+
+    # ---- the drive's events ----------------------------------------------------------------------------
+    def _take_drive_events(self, position_m: float) -> None:
+        """The drive's events since the last tick, as statuses of move 0; a stopping one stops the axis
+        (the queue abandoned where the drive measured it), an enabled one lets moves in again."""
+        assert self._queue is not None
+        for event in self.drive.events():
+            sender = ""
+            if event.kind in STOPPING_EVENTS:
+                self._drive_stopped(event, position_m)
+            elif event.kind is DriveEventKind.ENABLED:
+                self._queue.abandon(self.tick, position_m)
+                self._drive_down = None
+                sender, self._reset_sender = self._reset_sender, ""
+                log.warning("%s", event.text)
+            else:
+                log.warning("%s", event.text)
+            if event.kind is DriveEventKind.FAULT and self._reset_sender:
+                sender, self._reset_sender = self._reset_sender, ""  # the answer to the reset: it failed
+            self._axis_status(_EVENT_STATES[event.kind], sender, event.text, event)
+
+    def _drive_stopped(self, event: DriveEvent, position_m: float) -> None:
+        assert self._queue is not None
+        first = self._drive_down is None
+        self._drive_down = event.text
+        if not first:
+            return
+        self.report.drive_faults += 1
+        log.error("%s: the axis is stopped, moves are refused until the fault is reset", event.text)
+        for received, _deadline in self._pending:
+            self._reject(received, self._refusal())
+        self._pending.clear()
+        running, dropped = self._queue.abandon(self.tick, position_m)
+        if running is not None:
+            self._status(MoveState.STOPPED, running, f"stopped move {running.command.move_id}: {event.text}")
+        self._dropped(dropped, event.text)
+
+    def _reset_fault(self, sender: bytes) -> None:
+        """A quick stop asked for a fault reset: start it, or answer at once that nothing needs it."""
+        if self._drive_down is None:
+            self._axis_status(MoveState.ENABLED, sender.hex(), "no fault to reset; the drive follows")
+            return
+        self._reset_sender = sender.hex()
+        log.warning("fault reset requested at tick %d", self.tick)
+        self.drive.reset_fault()
+
+    def _refusal(self) -> str:
+        return f"the drive follows no setpoints ({self._drive_down}): reset it (axisflow stop --reset-fault)"
+
+    def _axis_status(self, state: MoveState, sender: str, text: str, event: DriveEvent | None = None) -> None:
+        """A status of move 0 (about the axis, not a move), with the drive's codes of ``event``."""
+        codes = (event.error_code, event.error_register, event.statusword) if event is not None else (0, 0, 0)
+        self._publish(MoveStatus(self._stamp(), self.keys.axis, state, STOP_MOVE_ID, self.tick, NO_TICK,
+                                 NO_TICK, sender, text, *codes))  # fmt: skip
 
     def _stopped(self, braking: QueuedMove) -> None:
         """The braking profile of a quick stop has brought the axis to rest."""
@@ -453,34 +551,52 @@ class Bridge:
     # ---- the paced loop ---------------------------------------------------------------------------
     def run(self, stop: threading.Event | None = None) -> BridgeReport:
         """Step at ``speed`` until ``duration_s`` of drive time has passed or ``stop`` is set."""
-        stop = stop or threading.Event()
-        speed = self.config.speed
-        n_ticks = self.config.ticks
-        jitter = DurationHistogram()
-        nominal_ns = EXECUTION_PERIOD_NS / speed if speed > 0 else 0.0
-        t_start = time.monotonic_ns()
-        prev = t_start
-        first_tick = self.tick
-        while not stop.is_set() and (n_ticks is None or self.tick - first_tick < n_ticks):
-            if speed > 0:
-                deadline = t_start + int((self.tick - first_tick) * nominal_ns)
-                now = time.monotonic_ns()
-                if deadline - now > _SLEEP_MARGIN_NS and stop.wait(
-                    (deadline - now - _SLEEP_MARGIN_NS) * 1e-9
-                ):
-                    break
-                while (now := time.monotonic_ns()) < deadline:
-                    pass
-                if self.tick > first_tick:
-                    jitter.add_ns(abs(now - prev - int(nominal_ns)))
-                if now - deadline > nominal_ns:
-                    self.report.late_ticks += 1
-                prev = now
-            self.step()
-        self.report.ticks = self.tick
-        self.report.wall_time_s = (time.monotonic_ns() - t_start) * 1e-9
-        self.report.period_jitter = jitter.stats() if speed > 0 else None
-        return self.report
+        return run_bridges([self], stop)[0]
+
+
+def run_bridges(
+    bridges: Sequence[Bridge],
+    stop: threading.Event | None = None,
+    after_tick: Callable[[], None] | None = None,
+) -> list[BridgeReport]:
+    """Step every bridge once per tick, then ``after_tick`` (a bus's SYNC), at the first bridge's
+    ``speed`` until its ``duration_s`` of drive time has passed or ``stop`` is set."""
+    stop = stop or threading.Event()
+    config = bridges[0].config
+    speed = config.speed
+    n_ticks = config.ticks
+    jitter = DurationHistogram()
+    late = 0
+    nominal_ns = EXECUTION_PERIOD_NS / speed if speed > 0 else 0.0
+    t_start = time.monotonic_ns()
+    prev = t_start
+    done = 0
+    while not stop.is_set() and (n_ticks is None or done < n_ticks):
+        if speed > 0:
+            deadline = t_start + int(done * nominal_ns)
+            now = time.monotonic_ns()
+            if deadline - now > _SLEEP_MARGIN_NS and stop.wait((deadline - now - _SLEEP_MARGIN_NS) * 1e-9):
+                break
+            while (now := time.monotonic_ns()) < deadline:
+                pass
+            if done:
+                jitter.add_ns(abs(now - prev - int(nominal_ns)))
+            if now - deadline > nominal_ns:
+                late += 1
+            prev = now
+        for bridge in bridges:
+            bridge.step()
+        if after_tick is not None:
+            after_tick()
+        done += 1
+    wall_s = (time.monotonic_ns() - t_start) * 1e-9
+    for bridge in bridges:
+        report = bridge.report
+        report.ticks = bridge.tick
+        report.wall_time_s = wall_s
+        report.period_jitter = jitter.stats() if speed > 0 else None
+        report.late_ticks += late
+    return [b.report for b in bridges]
 
 
 def run_bridge(

@@ -325,6 +325,20 @@ class MoveQueue:
         self._head_started = True  # it continues the running move's course at this very tick
         return StopOutcome(tick, running, None, dropped, braking, v)
 
+    def abandon(self, tick: int, hold_position_m: float) -> tuple[QueuedMove | None, list[QueuedMove]]:
+        """Empty the queue at ``tick`` because the drive stopped following (a fault): the running move
+        (None if none ran) and the moves that had not started; from now on hold ``hold_position_m``
+        (where the drive measured the axis). Called again when the drive follows again, it only moves
+        the hold position there."""
+        running = None
+        if self._queue and self._head_started and self._queue[0].start_tick < tick:
+            running = self._removed(self._queue.popleft())
+        dropped = [self._removed(q) for q in self._queue]
+        self._queue.clear()
+        self._head_started = False
+        self._hold_m = hold_position_m
+        return running, dropped
+
     def advance(self, tick: int) -> QueueStep:
         """The setpoint of ``tick`` (non-decreasing ticks): the active move's sample, or hold; with the
         moves that ended (their end tick reached) and the move that started at this tick."""

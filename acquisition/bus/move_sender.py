@@ -181,15 +181,16 @@ class MoveSender:
         self._pub.put(cmd.encode(), cmd.stamp_ns)
         return cmd
 
-    def stop(self, reason: str = "") -> None:
+    def stop(self, reason: str = "", reset_fault: bool = False) -> None:
         """Request a quick stop (:mod:`.quick_stop`): the bridge abandons the queue, brakes the running
         move to rest and holds. Its STOPPED status of move :data:`STOP_MOVE_ID` (this sender's) says
-        where and how fast the axis stopped: ``wait_status(STOP_MOVE_ID, {MoveState.STOPPED}, …)``."""
+        where and how fast the axis stopped: ``wait_status(STOP_MOVE_ID, {MoveState.STOPPED}, …)``.
+        ``reset_fault``: also reset the drive's fault; an ENABLED (or FAULT) status of move 0 follows."""
         if self._stop_pub is None:
             self._stop_pub = SequencedPublisher(
                 self._session, self.keys.stop, QUICK_STOP_TYPE, Traffic.COMMAND, gid=self._pub.gid
             )
-        request = QuickStop(time.time_ns(), self.keys.axis, reason)
+        request = QuickStop(time.time_ns(), self.keys.axis, reason, reset_fault)
         self._stop_pub.put(request.encode(), request.stamp_ns)
 
     def close(self) -> None:

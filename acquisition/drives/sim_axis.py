@@ -31,7 +31,8 @@ low-pass (``velocity_filter_hz``); the motor torque is the applied torque plus w
 * ``[stroke_friction]``, ``[thermal]``, ``[wear]``: the friction of this tick, from
   :class:`~.friction_drift.FrictionDrift`; :meth:`SimulatedAxis.true_params` gives its present values;
 * ``[sample_clock]``: each sample's stamp is its tick's time plus a uniform error within ±jitter, and a
-  sample is lost (:meth:`~SimulatedAxis.read` returns None) with probability ``drop_fraction``; the
+  sample is lost (:meth:`~SimulatedAxis.status` says it is not fresh; :meth:`~SimulatedAxis.read`
+  returns the last sample that arrived) with probability ``drop_fraction``; the
   first sample never is (the bridge starts from it). The drive's own loop runs on every tick.
 
 Every random draw of a realistic tick comes from one generator seeded with ``[torque_sensor] seed``,
@@ -60,7 +61,7 @@ import numpy as np
 from ...model import EXECUTION_PERIOD_NS, EXECUTION_PERIOD_S, AxisParams, stop_profile
 from ..errors import PlantError
 from ..wire.messages import AxisSample
-from .drive import Setpoint
+from .drive import READY, AlwaysReady, DriveStatus, Setpoint
 from .friction_drift import FrictionDrift
 from .mechanics import BeltAxis, RigidAxis
 from .plant import (
@@ -94,7 +95,11 @@ STATE_SPEED_MARGIN = 0.1
 """a saved plant state may exceed v_max by this fraction (tracking overshoot), no more"""
 
 
-class SimulatedAxis:
+_LOST = DriveStatus(following=True, fresh=False, commanded=True)
+"""the status of a tick whose sample the simulated drive lost"""
+
+
+class SimulatedAxis(AlwaysReady):
     """A :class:`~axisflow.acquisition.drives.drive.Drive` backed by the simulated plant (see the module
     doc)."""
 
@@ -113,6 +118,8 @@ class SimulatedAxis:
         self.plant = plant
         self.nominal = nominal
         self.tick = 0
+        self._last: AxisSample | None = None
+        """the last sample :meth:`read` returned (what it returns again for a lost one)"""
         self._start_ns = start_stamp_ns
         p = plant.axis
         w = 2.0 * math.pi * plant.controller.bandwidth_hz
@@ -203,19 +210,24 @@ class SimulatedAxis:
     def _encoder(self, x_m: float) -> float:
         return math.floor(x_m / self._m_per_count) * self._m_per_count
 
-    def read(self) -> AxisSample | None:
-        """The sample of the current tick (None: lost on the way, realistic profiles only)."""
+    def status(self) -> DriveStatus:
+        """Always following; not fresh at a tick whose sample was lost (realistic profiles only)."""
+        return _LOST if not self._rigid and self._real.lost else READY
+
+    def read(self) -> AxisSample:
+        """The sample of the current tick; at a tick whose sample was lost (see :meth:`status`), the
+        last one that arrived."""
         p = self.nominal
         if self._rigid:
             tau_meas = self.applied_torque_nm + self._rng.gauss(0.0, self.plant.torque_sensor.noise_std_nm)
             x, v, stamp = self._x_meas, self._v_meas, self.stamp_ns
         else:
             real = self._real
-            if real.lost:
-                return None
+            if real.lost and self._last is not None:
+                return self._last
             tau_meas, x, v = real.torque_nm, real.position_m, real.reported_velocity_m_s
             stamp = self.stamp_ns + real.jitter_ns
-        return AxisSample(
+        self._last = AxisSample(
             stamp_ns=stamp,
             axis=self.axis,
             position_m=x,
@@ -225,6 +237,7 @@ class SimulatedAxis:
             motor_speed_rad_s=v * p.i_r / p.r,
             motor_torque_nm=tau_meas,
         )
+        return self._last
 
     def apply(self, setpoint: Setpoint) -> None:
         """Command the setpoint for the current tick and advance to the next tick."""

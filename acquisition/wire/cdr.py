@@ -24,6 +24,7 @@ from ..errors import WireError
 CDR_LE_HEADER = b"\x00\x01\x00\x00"
 
 _UINT8 = struct.Struct("<B")
+_UINT16 = struct.Struct("<H")
 _INT32 = struct.Struct("<i")
 _INT64 = struct.Struct("<q")
 _UINT32 = struct.Struct("<I")
@@ -44,6 +45,10 @@ class CdrWriter:
 
     def uint8(self, value: int) -> None:
         self._buf += _UINT8.pack(value)
+
+    def uint16(self, value: int) -> None:
+        self._align(2)
+        self._buf += _UINT16.pack(value)
 
     def int32(self, value: int) -> None:
         self._align(4)
@@ -110,6 +115,12 @@ class CdrReader:
         """The byte offset of the next field (in the payload, header included)."""
         return self._pos
 
+    @property
+    def at_end(self) -> bool:
+        """Whether every byte has been read (a record that grew fields at its end reads the older,
+        shorter form by checking this before its new fields)."""
+        return self._pos >= len(self._data)
+
     def _need(self, size: int) -> None:
         if self._pos + size > len(self._data):
             raise WireError(
@@ -129,6 +140,9 @@ class CdrReader:
 
     def uint8(self) -> int:
         return int(self._unpack(_UINT8))
+
+    def uint16(self) -> int:
+        return int(self._unpack(_UINT16))
 
     def int32(self) -> int:
         return int(self._unpack(_INT32))

@@ -33,6 +33,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "pareto_cmd",
     "bench_cmd",
     "bridge_cmd",
+    "drive_sim_cmd",
     "record_cmd",
     "excite_cmd",
     "identify_cmd",
@@ -48,6 +49,8 @@ COMMAND_MODULES: tuple[str, ...] = (
 )
 
 EXIT_USER_ERROR = 2
+QUIET_LIBRARIES = ("canopen", "can")
+"""libraries whose own log lines are shown only with -v"""
 
 
 class _Parser(argparse.ArgumentParser):
@@ -87,6 +90,10 @@ def _main(argv: Sequence[str] | None) -> int:
         level=logging.WARNING - 10 * min(args.verbose, 2),
         format="%(asctime)s %(levelname)s %(name)s: %(message)s",
     )
+    if not args.verbose:
+        # canopen and python-can log every SDO retry and abort they make; our errors say what they meant
+        for name in QUIET_LIBRARIES:
+            logging.getLogger(name).setLevel(logging.CRITICAL)
     with signals_unwind(), warnings.catch_warnings():
         warnings.simplefilter("default", AxisflowWarning)
         warnings.showwarning = _warning_printer(args.command, warnings.showwarning)

@@ -18,6 +18,7 @@ BENCHMARKS: dict[str, str] = {
     "view": "view",
     "faults": "faults",
     "plant": "plant",
+    "drives": "drives",
 }
 
 

@@ -1,4 +1,4 @@
-"""``axisflow bridge --sim``: the 1 kHz drive bridge with the simulated axis."""
+"""``axisflow bridge``: the 1 kHz drive bridge — the simulated axis, or CiA 402 drives over CANopen."""
 
 from __future__ import annotations
 
@@ -6,28 +6,64 @@ import argparse
 import gc
 import json
 import sys
+import threading
+from contextlib import ExitStack
 
-from ..acquisition.bridge.bridge import BridgeConfig, run_bridge
+from ..acquisition.bridge.bridge import Bridge, BridgeConfig, BridgeReport, run_bridge, run_bridges
 from ..acquisition.bridge.move_queue import DEFAULT_JUMP_TOLERANCE_M
-from ..acquisition.bus.session import open_session
-from ..acquisition.drives.plant import DEFAULT_PROFILE, PROFILE_RESOURCES, load_plant, load_profile
+from ..acquisition.bus.session import ZenohOptions, open_session
+from ..acquisition.drives.canopen.config import DriveConfig, Pacing, load_drive_config
+from ..acquisition.drives.canopen.cycle import CycleReport
+from ..acquisition.drives.canopen.master import open_master
+from ..acquisition.drives.canopen.sim_drive import SimulatedDrive
+from ..acquisition.drives.plant import (
+    DEFAULT_PROFILE,
+    PROFILE_RESOURCES,
+    PlantConfig,
+    load_plant,
+    load_profile,
+)
 from ..acquisition.drives.sim_axis import SimulatedAxis
 from ..acquisition.shutdown import stop_on_signals
 from ..acquisition.wire.drive_info import SIMULATED, DriveInfo
 from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
 from ..arguments import add_params_option, finite_float, params_from_args
+from ..model import AxisflowError, AxisParams
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
+
+DRIVES = ("sim", "canopen", "canopen-sim")
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "bridge",
-        help="run the 1 kHz drive bridge (simulated axis) over Zenoh",
+        help="run the 1 kHz drive bridge (simulated axis, or CiA 402 drives over CANopen) over Zenoh",
         description="Publish 1 kHz samples and setpoints of an axis over Zenoh and execute the moves "
-        "received on <prefix>/<axis>/trajectory. Stops after --duration or on SIGINT/SIGTERM and "
-        "prints the period jitter.",
+        "received on <prefix>/<axis>/trajectory. The drive is the built-in simulated axis (default), the "
+        "CiA 402 drive(s) of --drive-config over CANopen (docs/drives.md), or simulated CiA 402 drives "
+        "hosted in this process on an in-process CAN bus (--drive canopen-sim). Stops after --duration or "
+        "on SIGINT/SIGTERM and prints the period jitter.",
     )
-    p.add_argument("--sim", action="store_true", required=True, help="drive the simulated axis (required)")
+    p.add_argument("--sim", action="store_true", help="drive the built-in simulated axis (the default)")
+    p.add_argument(
+        "--drive",
+        choices=DRIVES,
+        default=None,
+        help="sim: the built-in simulated axis; canopen: the drives of --drive-config; canopen-sim: "
+        "simulated CiA 402 drives in this process on the bus of --drive-config (default: one on python-can's "
+        "virtual bus). Default: canopen with --drive-config, else sim",
+    )
+    p.add_argument(
+        "--drive-config",
+        metavar="FILE",
+        default=None,
+        help="drive.toml: the CAN bus and the CiA 402 drives on it (docs/drives.md)",
+    )
+    p.add_argument(
+        "--reset-fault",
+        action="store_true",
+        help="reset a CANopen drive found in fault at start-up (after removing its cause)",
+    )
     p.add_argument("--axis", default=DEFAULT_AXIS, help=f"axis name (default: {DEFAULT_AXIS})")
     p.add_argument("--prefix", default=DEFAULT_PREFIX, help=f"key prefix (default: {DEFAULT_PREFIX})")
     add_params_option(p)
@@ -36,7 +72,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--plant",
         metavar="FILE",
         default=None,
-        help="plant file (docs/plant.md; default: the packaged ideal one)",
+        help="plant file of the simulated axis or simulated drives (docs/plant.md; default: the packaged "
+        "ideal one)",
     )
     plant.add_argument(
         "--plant-profile",
@@ -81,18 +118,68 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
-def run(args: argparse.Namespace) -> int:
-    params = params_from_args(args)
-    plant = load_profile(args.plant_profile, params) if args.plant_profile else load_plant(args.plant, params)
-    config = BridgeConfig(
-        keys=AxisKeys(args.axis, args.prefix),
+def _drive_kind(args: argparse.Namespace) -> str:
+    kind = args.drive or ("canopen" if args.drive_config else "sim")
+    if args.sim and kind != "sim":
+        raise AxisflowError(f"--sim (the built-in simulated axis) contradicts --drive {kind}")
+    if kind == "canopen" and args.drive_config is None:
+        raise AxisflowError("--drive canopen needs --drive-config FILE (the CAN bus and its drives)")
+    if kind == "sim" and args.drive_config is not None:
+        raise AxisflowError("--drive-config is for CANopen drives: drop --drive sim (or --sim)")
+    if kind != "sim" and args.plant_state is not None:
+        raise AxisflowError(
+            "--plant-state keeps the built-in simulated axis's position; a drive keeps its own"
+        )
+    if kind == "canopen" and (args.plant is not None or args.plant_profile is not None):
+        raise AxisflowError(
+            "--plant and --plant-profile belong to a simulated drive: use --drive canopen-sim or "
+            "axisflow drive-sim"
+        )
+    if kind == "sim" and args.reset_fault:
+        raise AxisflowError("--reset-fault is for CANopen drives; the built-in simulated axis never faults")
+    return kind
+
+
+def _plant(args: argparse.Namespace, params: AxisParams) -> PlantConfig:
+    """The plant of the simulated axis or simulated drives: --plant-profile, --plant or the default."""
+    if args.plant_profile is not None:
+        return load_profile(args.plant_profile, params)
+    return load_plant(args.plant, params)
+
+
+def _bridge_config(args: argparse.Namespace, axis: str, drive: DriveInfo) -> BridgeConfig:
+    return BridgeConfig(
+        keys=AxisKeys(axis, args.prefix),
         speed=args.speed,
         duration_s=args.duration,
         wait_subscribers_s=args.wait_subscribers,
         jump_tolerance_m=args.jump_tolerance,
-        drive=DriveInfo(0, args.axis, SIMULATED, plant.profile, plant.source),
+        drive=drive,
     )
+
+
+def run(args: argparse.Namespace) -> int:
+    params = params_from_args(args)
+    kind = _drive_kind(args)
     options = zenoh_options_from_args(args)
+    if kind == "sim":
+        return _run_simulated_axis(args, params, options)
+    drives = load_drive_config(args.drive_config).with_axis(args.axis)
+    if drives.pacing is Pacing.WALL and args.speed != 1.0:
+        raise AxisflowError(
+            f"pacing = wall runs the drives in real time: --speed must be 1, not {args.speed:g} "
+            "(lock-step pacing, for simulated drives, runs at any speed)"
+        )
+    plant = _plant(args, params) if kind == "canopen-sim" else None
+    with stop_on_signals() as stop:
+        reports, bus = _run_canopen(args, params, drives, plant, options, stop)
+    _print_reports(args, reports, bus)
+    return 0
+
+
+def _run_simulated_axis(args: argparse.Namespace, params: AxisParams, options: ZenohOptions) -> int:
+    plant = _plant(args, params)
+    config = _bridge_config(args, args.axis, DriveInfo(0, args.axis, SIMULATED, plant.profile, plant.source))
     # its clock starts at the first sample
     drive = SimulatedAxis(plant, params, axis=args.axis, state_path=args.plant_state)
     with stop_on_signals() as stop, open_session(options) as session:
@@ -107,8 +194,59 @@ def run(args: argparse.Namespace) -> int:
         finally:
             drive.close()
         # the report is out before the session closes (a close that hangs must not take it along)
-        if args.json:
-            print(json.dumps(report.to_dict(), indent=2), flush=True)
-        else:
-            print(report.summary(), flush=True)
+        _print_reports(args, {args.axis: report})
     return 0
+
+
+def _run_canopen(
+    args: argparse.Namespace,
+    params: AxisParams,
+    drives: DriveConfig,
+    plant: PlantConfig | None,
+    options: ZenohOptions,
+    stop: threading.Event,
+) -> tuple[dict[str, BridgeReport], CycleReport]:
+    """Start the drives (with a ``plant``: simulated ones hosted here first, for canopen-sim), then one
+    bridge per drive in one loop with one SYNC per tick; on the way out the bridges close, then the
+    drives are stopped."""
+    with ExitStack() as stack:
+        if plant is not None:
+            for settings in drives.drives:
+                stack.enter_context(SimulatedDrive(drives.can, settings, drives.cycle_hz, plant, params))
+        session = stack.enter_context(open_session(options))
+        master = stack.enter_context(open_master(drives, params, args.reset_fault))
+        if not args.json:
+            for info in master.infos:
+                print(f"axisflow bridge: {info.describe()}", file=sys.stderr, flush=True)
+        with master.cycle.idle():  # a real drive watches the SYNC from the moment it is enabled
+            bridges = []
+            for drive, settings, info in zip(master.drives, drives.drives, master.infos, strict=True):
+                what = DriveInfo(0, settings.axis or args.axis, info.describe())
+                if plant is not None:  # a simulated drive: say which plant it simulates
+                    what = DriveInfo(0, what.axis, f"simulated {what.drive}", plant.profile, plant.source)
+                config = _bridge_config(args, what.axis, what)
+                bridges.append(stack.enter_context(Bridge(session, drive, params, config)))
+            gc.freeze()
+        master.cycle.start_measuring()
+        run_bridges(bridges, stop, master.cycle.after_tick)
+        return {b.keys.axis: b.report for b in bridges}, master.cycle.report()
+
+
+def _print_reports(
+    args: argparse.Namespace, reports: dict[str, BridgeReport], bus: CycleReport | None = None
+) -> None:
+    """One bridge: its report (with ``bus``, the CAN cycle's); several: ``bridges`` by axis and ``bus``."""
+    if args.json:
+        if len(reports) == 1:
+            out = next(iter(reports.values())).to_dict()
+        else:
+            out = {"bridges": {axis: r.to_dict() for axis, r in reports.items()}}
+        if bus is not None:
+            out["bus"] = bus.to_dict()
+        print(json.dumps(out, indent=2), flush=True)
+        return
+    for axis, report in reports.items():
+        prefix = "" if len(reports) == 1 else f"axis {axis}: "
+        print(prefix + report.summary(), flush=True)
+    if bus is not None:
+        print(bus.summary(), flush=True)

@@ -69,6 +69,13 @@ def register(sub: argparse._SubParsersAction) -> None:
         default=DEFAULT_PROFILE,
         help=f"the simulated axis's plant profile (docs/plant.md; default {DEFAULT_PROFILE})",
     )
+    p.add_argument(
+        "--drive",
+        choices=("sim", "canopen-sim"),
+        default="sim",
+        help="the bridge's drive: the built-in simulated axis (default), or a simulated CiA 402 drive over "
+        "CANopen on an in-process bus (counts, per-mille torque; docs/drives.md)",
+    )
     p.set_defaults(func=run)
 
 
@@ -89,11 +96,12 @@ def run(args: argparse.Namespace) -> int:
         lookahead_s=args.lookahead_s,
         params_path=args.params,
         plant_profile=args.plant_profile,
+        drive=args.drive,
     )
     speed = "as fast as the recorder allows" if args.speed == 0 else f"at {args.speed:g}× real time"
     print(
-        f"axisflow demo: {args.waypoints} way points (the paper: 100), solver {args.solver}, plant profile "
-        f"{args.plant_profile}, the bridge runs {speed}",
+        f"axisflow demo: {args.waypoints} way points (the paper: 100), solver {args.solver}, drive "
+        f"{args.drive}, plant profile {args.plant_profile}, the bridge runs {speed}",
         file=sys.stderr,
         flush=True,
     )

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import argparse
 import json
+import time
 
-from ..acquisition import MoveState
+from ..acquisition import MoveState, MoveStatus
 from ..acquisition.bus.move_sender import MoveSender
 from ..acquisition.bus.session import open_session
 from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
@@ -22,11 +23,19 @@ def register(sub: argparse._SubParsersAction) -> None:
         description="Send a quick stop to an axis's bridge (CiA 402 quick-stop semantics): it drops the "
         "moves that have not started and brings the running one to rest as fast as the torque limit "
         "allows, then holds. Prints where the axis stopped, after what distance and time, and the axis's "
-        "physical minimum from the same speed.",
+        "physical minimum from the same speed. With --reset-fault it also resets the fault of a drive "
+        "that stopped following setpoints, so that the bridge accepts moves again. Not a safety function: "
+        "see docs/drives.md.",
     )
     p.add_argument("--axis", default=DEFAULT_AXIS, help=f"axis name (default: {DEFAULT_AXIS})")
     p.add_argument("--prefix", default=DEFAULT_PREFIX, help=f"key prefix (default: {DEFAULT_PREFIX})")
     p.add_argument("--reason", default="axisflow stop", help="why (logged by the bridge)")
+    p.add_argument(
+        "--reset-fault",
+        action="store_true",
+        help="also reset the drive's fault (CiA 402 fault reset) and enable it again; waits for the drive to "
+        "follow setpoints, and fails naming the fault if it does not",
+    )
     p.add_argument(
         "--timeout",
         type=finite_float,
@@ -48,23 +57,42 @@ def run(args: argparse.Namespace) -> int:
             raise AxisflowError(
                 f"no bridge for axis {keys.axis!r} answered within {args.timeout:g} s ({keys.alive})"
             )
-        sender.stop(args.reason)
+        sender.stop(args.reason, reset_fault=args.reset_fault)
         status = sender.wait_status(STOP_MOVE_ID, {MoveState.STOPPED}, args.timeout)
-    if status is None:
-        raise AxisflowError(
-            f"the bridge of axis {keys.axis!r} did not confirm the stop within {args.timeout:g} s"
-        )
-    if args.json:
-        print(
-            json.dumps(
-                {
-                    "tick": status.tick,
-                    "start_tick": status.start_tick,
-                    "end_tick": status.end_tick,
-                    "text": status.text,
-                }
+        if status is None:
+            raise AxisflowError(
+                f"the bridge of axis {keys.axis!r} did not confirm the stop within {args.timeout:g} s"
             )
-        )
+        reset = _wait_reset(sender, status, args.timeout) if args.reset_fault else None
+    if reset is not None and reset.state is not MoveState.ENABLED:
+        raise AxisflowError(f"the fault reset of axis {keys.axis!r} failed: {reset.text}")
+    if args.json:
+        answer = {"tick": status.tick, "start_tick": status.start_tick, "end_tick": status.end_tick}
+        answer["text"] = status.text
+        if reset is not None:
+            answer["reset"] = {"tick": reset.tick, "text": reset.text}
+        print(json.dumps(answer))
     else:
         print(status.text)
+        if reset is not None:
+            print(reset.text)
     return 0
+
+
+_RESET_ANSWERS = frozenset({MoveState.ENABLED, MoveState.FAULT, MoveState.COMM_LOST})
+
+
+def _wait_reset(sender: MoveSender, stopped: MoveStatus, timeout_s: float) -> MoveStatus:
+    """The bridge's answer to the fault reset: the first ENABLED or FAULT status of move 0 for this
+    sender after its stop's STOPPED."""
+    deadline = time.monotonic() + timeout_s
+    seen = sender.statuses.index(stopped) + 1
+    while True:
+        for status in sender.statuses[seen:]:
+            if status.move_id == STOP_MOVE_ID and status.state in _RESET_ANSWERS:
+                return status
+        seen = len(sender.statuses)
+        if time.monotonic() > deadline:
+            raise AxisflowError(f"the bridge did not answer the fault reset within {timeout_s:g} s")
+        if not sender.poll_status():
+            time.sleep(0.005)

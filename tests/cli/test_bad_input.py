@@ -376,6 +376,94 @@ CASES = [
         "bad.json5",
         says=("zenoh config file bad.json5 is invalid",),
     ),
+    # the bridge with CANopen drives (docs/drives.md)
+    case(
+        "bridge: missing drive config",
+        "bridge",
+        "--drive-config",
+        "missing-drive.toml",
+        says=("drive configuration file missing-drive.toml", "does not exist"),
+    ),
+    case(
+        "bridge: unknown key in the drive config",
+        "bridge",
+        "--drive-config",
+        "drive-unknown.toml",
+        says=("drive-unknown.toml", "unknown key(s) speed in [drive]", "allowed: node_id"),
+    ),
+    case(
+        "bridge: node id out of range",
+        "bridge",
+        "--drive-config",
+        "drive-node200.toml",
+        says=("[drive] node_id = 200", "must be in 1…127"),
+    ),
+    case(
+        "bridge: CAN interface unknown",
+        "bridge",
+        "--drive-config",
+        "drive-nope.toml",
+        *LOOPBACK,
+        says=("CAN interface 'pcan2'", "is not a python-can interface"),
+    ),
+    case(
+        "bridge: CAN interface cannot open",
+        "bridge",
+        "--drive-config",
+        "drive-socketcan.toml",
+        *LOOPBACK,
+        says=("CAN interface 'socketcan' channel 'nocan7' cannot be opened",),
+    ),
+    case(
+        "bridge: no drive at the node id",
+        "bridge",
+        "--drive-config",
+        "drive-nobody.toml",
+        *LOOPBACK,
+        says=("no answer from drive node 9 (axis a0)", "node id 9"),
+    ),
+    case(
+        "bridge: wall pacing faster than real time",
+        "bridge",
+        "--drive-config",
+        "drive-wall.toml",
+        "--speed",
+        "0",
+        says=("pacing = wall", "--speed must be 1, not 0"),
+    ),
+    case(
+        "bridge: canopen without a config",
+        "bridge",
+        "--drive",
+        "canopen",
+        says=("--drive canopen needs --drive-config FILE",),
+    ),
+    # the simulated CANopen drive
+    case(
+        "drive-sim: an in-process bus",
+        "drive-sim",
+        "--drive-config",
+        "drive-wall.toml",
+        says=("CAN interface 'virtual' reaches only its own process", "udp_multicast"),
+    ),
+    case(
+        "drive-sim: error code not hexadecimal",
+        "drive-sim",
+        "--drive-config",
+        "drive-sock.toml",
+        "--fault-at",
+        "1:zz",
+        says=("--fault-at '1:zz'", "error code 'zz' is not hexadecimal"),
+    ),
+    case(
+        "drive-sim: no drive at that node",
+        "drive-sim",
+        "--drive-config",
+        "drive-sock.toml",
+        "--node",
+        "4",
+        says=("--node 4", "has no drive at that node id (it has 5)"),
+    ),
     # the recorder
     case(
         "record: bad key expression",
@@ -1106,6 +1194,17 @@ def inputs(tmp_path_factory, damage) -> Path:
         (d / folder / name).write_text("an earlier result\n")
     for k in range(len(damage.chunks(d / "still.mcap"))):  # every chunk's CRC wrong
         damage.damage(d / ("still.mcap" if k == 0 else "all-damaged.mcap"), d / "all-damaged.mcap", k, "crc")
+    drive = "[drive]\nnode_id = {node}\nencoder_counts_per_rev = 131072\n{extra}"
+    for name, can, node, extra in (
+        ("drive-unknown", 'interface = "virtual"\nchannel = "bad-1"', 5, "speed = 3\n"),
+        ("drive-node200", 'interface = "virtual"\nchannel = "bad-2"', 200, ""),
+        ("drive-nope", 'interface = "pcan2"\nchannel = "x"', 5, ""),
+        ("drive-socketcan", 'interface = "socketcan"\nchannel = "nocan7"', 5, ""),
+        ("drive-nobody", 'interface = "virtual"\nchannel = "bad-nobody"', 9, 'pacing = "lockstep"\n'),
+        ("drive-wall", 'interface = "virtual"\nchannel = "bad-3"', 5, 'pacing = "wall"\n'),
+        ("drive-sock", 'interface = "socketcan"\nchannel = "nocan8"', 5, ""),
+    ):
+        (d / f"{name}.toml").write_text(f"[can]\n{can}\n" + drive.format(node=node, extra=extra))
     return d
 
 
@@ -1187,7 +1286,7 @@ def _copy(src: Path, dst: Path) -> None:
 def test_the_catalogue_covers_every_command():
     from axisflow.cli import COMMAND_MODULES
 
-    commands = {m.removesuffix("_cmd") for m in COMMAND_MODULES}
+    commands = {m.removesuffix("_cmd").replace("_", "-") for m in COMMAND_MODULES}
     assert commands <= {c.args[0] for c in CASES}
     assert len(CASES) >= 30
 

@@ -55,9 +55,31 @@ def test_quantisation_works_on_scalars_and_arrays_alike():
     assert list(t) == pytest.approx([0.002, -0.002])
 
 
+@pytest.mark.parametrize("a", [-9.0, -0.001, 0.0, 8.25])
+def test_acceleration_round_trip_is_exact_to_half_a_count_per_second_squared(a):
+    back = UNITS.acceleration_m_s2(UNITS.counts_per_s2(a))
+    assert abs(back - a) <= 0.5 * UNITS.metres_per_count + 1e-15
+
+
+def test_a_reversed_motor_flips_every_signed_quantity_but_not_distances():
+    flipped = DriveUnits.for_axis(PARAMS, 131072, 2.0, zero_counts=1000, direction=-1)
+    x, v, a, tau = 0.25, 0.4, 3.0, 1.5
+    assert flipped.counts(x) - 1000 == -(UNITS.counts(x) - 1000)
+    assert flipped.counts_per_s(v) == -UNITS.counts_per_s(v)
+    assert flipped.counts_per_s2(a) == -UNITS.counts_per_s2(a)
+    assert flipped.per_mille(tau) == -UNITS.per_mille(tau)
+    for units in (UNITS, flipped):  # and each round-trips in its own frame
+        assert abs(units.position_m(units.counts(x)) - x) <= 0.5 * units.metres_per_count + 1e-15
+        assert abs(units.velocity_m_s(units.counts_per_s(v)) - v) <= 0.5 * units.metres_per_count + 1e-15
+        assert abs(units.torque_nm(units.per_mille(tau)) - tau) <= 0.5 * units.newton_metres_per_unit + 1e-15
+    assert flipped.distance_counts(0.005) == UNITS.distance_counts(0.005) == UNITS.distance_counts(-0.005)
+    assert UNITS.distance_m(UNITS.distance_counts(0.005)) == pytest.approx(0.005, abs=UNITS.metres_per_count)
+
+
 @pytest.mark.parametrize(
     ("kwargs", "match"),
     [
+        ({"direction": 0}, "direction = 0 must be 1 or -1"),
         ({"counts_per_rev": 0}, r"counts_per_rev = 0 counts must be in 1…2\^30 counts"),
         ({"counts_per_rev": 1.5}, "must be an integer"),
         ({"rated_torque_nm": 0.0}, r"rated_torque_nm = 0.0 N·m must be a finite number > 0"),

@@ -179,3 +179,9 @@ def test_axes_are_found_by_their_topics_and_types():
         ("a0", "/axisflow/a0/state", None, "/axisflow/a0/event"),
         ("lab/b1", None, "/lab/b1/setpoint", None),
     ]
+
+
+def test_every_move_status_has_a_log_level_in_the_scene():
+    from axisflow.viz.scene import _LEVELS  # a status without one would stop the session's log
+
+    assert set(_LEVELS) == set(MoveState)

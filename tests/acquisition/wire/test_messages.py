@@ -14,6 +14,8 @@ from axisflow.acquisition import (
     MoveStatus,
     WireError,
 )
+from axisflow.acquisition.wire.cdr import CdrWriter, write_time
+from axisflow.acquisition.wire.quick_stop import QUICK_STOP_TYPE, QuickStop
 from mcap_ros2._dynamic import generate_dynamic, serialize_dynamic
 
 SAMPLE = AxisSample(
@@ -121,6 +123,9 @@ def test_move_status_round_trip_and_reference_codec():
             "end_tick": -1,
             "sender": STATUS.sender,
             "text": STATUS.text,
+            "error_code": 0,
+            "error_register": 0,
+            "statusword": 0,
         }
     )
     assert bytes(ref_bytes) == data
@@ -131,9 +136,63 @@ def test_move_status_round_trip_and_reference_codec():
 
 def test_move_status_with_an_unknown_state_is_a_wire_error():
     data = bytearray(STATUS.encode())
-    data[data.index(b"a0\x00") + 3] = 9  # the status byte (uint8: no padding) follows the frame id
-    with pytest.raises(WireError, match="move status 9 is not one of 1 \\(accepted\\)"):
+    data[data.index(b"a0\x00") + 3] = 99  # the status byte (uint8: no padding) follows the frame id
+    with pytest.raises(WireError, match="move status 99 is not one of 1 \\(accepted\\)"):
         MoveStatus.decode(bytes(data))
+
+
+FAULT = MoveStatus(
+    stamp_ns=1_700_000_000_250_000_000,
+    axis="a0",
+    state=MoveState.FAULT,
+    move_id=0,
+    tick=250,
+    text="drive node 5 faulted: 0x2310 continuous over-current",
+    error_code=0x2310,
+    error_register=0x03,
+    statusword=0x0218,
+)
+
+
+def test_a_drive_event_round_trips_through_both_codecs():
+    data = FAULT.encode()
+    assert MoveStatus.decode(data) == FAULT
+    ref = _reference(MOVE_STATUS_TYPE)(data)
+    assert (ref.status, ref.error_code, ref.error_register, ref.statusword) == (7, 0x2310, 3, 0x0218)
+    assert ref.text == FAULT.text
+
+
+def test_a_status_recorded_before_the_drive_fields_existed_decodes_with_them_zero():
+    w = CdrWriter()  # the record's layout before the drive's fields were appended
+    write_time(w, FAULT.stamp_ns)
+    for write, value in ((w.string, "a0"), (w.uint8, 7), (w.uint64, 0), (w.int64, 250), (w.int64, -1)):
+        write(value)
+    for write, value in ((w.int64, -1), (w.string, ""), (w.string, FAULT.text)):
+        write(value)
+    expected = MoveStatus(FAULT.stamp_ns, "a0", MoveState.FAULT, 0, 250, text=FAULT.text)
+    assert MoveStatus.decode(w.to_bytes()) == expected
+
+
+@pytest.mark.parametrize(
+    ("name", "value"), [("error_code", 1 << 16), ("error_register", 256), ("statusword", -1)]
+)
+def test_drive_fields_out_of_their_unsigned_range_are_a_wire_error(name, value):
+    with pytest.raises(WireError, match=f"{name} = {value} must be an unsigned"):
+        MoveStatus(1, "a0", MoveState.FAULT, 0, 0, **{name: value})
+
+
+def test_quick_stop_round_trips_with_and_without_a_fault_reset():
+    for request in (QuickStop(1_700_000_000_000_000_000, "a0", "operator"), QuickStop(5, "a1", "", True)):
+        data = request.encode()
+        assert QuickStop.decode(data) == request
+        ref = _reference(QUICK_STOP_TYPE)(data)
+        assert (ref.header.frame_id, ref.reason, ref.reset_fault) == (
+            request.axis,
+            request.reason,
+            request.reset_fault,
+        )
+    old = QuickStop(7, "a0", "x").encode()[:-1]  # sent before reset_fault existed
+    assert QuickStop.decode(old) == QuickStop(7, "a0", "x", False)
 
 
 def test_attachment_round_trip():
