@@ -96,7 +96,7 @@ def record_offline_excitation(
             sample = drive.read()
             setpoint = queue.setpoint(tick)
             stamp = queue.stamp_of(tick)
-            if sample is None:
+            if not drive.status().fresh:
                 lost += 1
             else:
                 out.state(sample.stamp_ns, sample.encode())

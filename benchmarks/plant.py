@@ -73,8 +73,9 @@ def run(args: argparse.Namespace) -> int:
             t0 = time.perf_counter()
             for sp in setpoints:
                 sample = drive.read()
+                fresh = drive.status().fresh
                 drive.apply(sp)
-                if sample is None:
+                if not fresh:
                     lost[name] += 1
                 else:
                     errors[name] = max(errors[name], abs(sample.position_m - sp.position_m))
