@@ -156,10 +156,10 @@ def _rss_kb(pid: int, field: str = "VmRSS") -> int:
 def _analyse(path: Path) -> dict[str, object]:
     """Counts, gaps and stamp→write latency of a benchmark recording."""
     from axisflow.acquisition import iter_recording
+    from axisflow.acquisition.wire.sequence import SequenceTracker
 
     counts: dict[str, int] = {}
-    gaps = 0
-    last: dict[str, int] = {}
+    sequences: dict[str, SequenceTracker] = {}
     lat: list[int] = []
     first_log, last_log = None, 0
     for rec in iter_recording(path):
@@ -167,17 +167,15 @@ def _analyse(path: Path) -> dict[str, object]:
         first_log = m.log_time if first_log is None else min(first_log, m.log_time)
         last_log = max(last_log, m.log_time)
         counts[topic] = counts.get(topic, 0) + 1
-        prev = last.get(topic)
-        if prev is not None and m.sequence != prev + 1:
-            gaps += m.sequence - prev - 1
-        last[topic] = m.sequence
+        # one publisher per topic here; MCAP keeps its sequence numbers but not its id
+        sequences.setdefault(topic, SequenceTracker()).add(b"", m.sequence)
         sec, nsec = _STAMP.unpack_from(m.data, 4)
         lat.append(m.log_time - (sec * 1_000_000_000 + nsec))
     arr = np.array(lat, dtype=np.int64) if lat else np.zeros(1, dtype=np.int64)
     return {
         "recorded": sum(counts.values()),
         "topics": len(counts),
-        "gaps": gaps,
+        "gaps": sum(t.missed for t in sequences.values()),
         "write_span_s": (last_log - first_log) * 1e-9 if first_log is not None else 0.0,
         "latency_p50_us": float(np.percentile(arr, 50)) / 1e3,
         "latency_p99_us": float(np.percentile(arr, 99)) / 1e3,

@@ -37,6 +37,7 @@ from ..acquisition.histogram import DurationHistogram, DurationStats
 from ..acquisition.wire.attachment import unpack_attachment
 from ..acquisition.wire.move_status import MoveStatus
 from ..acquisition.wire.plan_record import PlanRecord
+from ..acquisition.wire.sequence import SequenceTracker
 from ..model import AxisParams
 from .blueprint import view_blueprint
 from .entities import AxisEntities, axis_label
@@ -59,11 +60,18 @@ _Record = TypeVar("_Record", MoveStatus, PlanRecord)
 
 @dataclass
 class KeyCount:
-    """Messages of one key: received, lost (sequence gaps) and undecodable."""
+    """Messages of one key: received, lost on the way (sequence gaps) and undecodable."""
 
     received: int = 0
-    missed: int = 0
     undecodable: int = 0
+    sequences: SequenceTracker = field(default_factory=SequenceTracker)
+
+    @property
+    def missed(self) -> int:
+        return self.sequences.missed
+
+    def to_dict(self) -> dict[str, int]:
+        return {"received": self.received, "missed": self.missed, "undecodable": self.undecodable}
 
 
 @dataclass
@@ -96,7 +104,7 @@ class LiveReport:
             "missed": self.missed,
             "ignored": self.ignored,
             "batches": self.batches,
-            "per_key": {k: vars(c) for k, c in sorted(self.counts.items())},
+            "per_key": {k: c.to_dict() for k, c in sorted(self.counts.items())},
             "latency": self.latency.to_dict() if self.latency and self.latency.count else None,
             "stale_stamps": self.stale_stamps,
         }
@@ -156,7 +164,6 @@ class LiveView:
         self._scenes: dict[str, AxisScene] = {}
         self._pending: dict[tuple[str, str, str], list[bytes]] = defaultdict(list)
         self._routes: dict[str, tuple[str, str] | None] = {}
-        self._last_seq: dict[tuple[str, bytes], int] = {}
         self._latency = DurationHistogram(limit_us=1_000_000)
 
     def run(
@@ -218,11 +225,7 @@ class LiveView:
         att = sample.attachment
         parsed = unpack_attachment(att.to_bytes()) if att is not None else None
         if parsed is not None:
-            seq, _stamp, gid = parsed
-            last = self._last_seq.get((key, gid))
-            if last is not None and seq > last + 1:
-                count.missed += seq - last - 1
-            self._last_seq[(key, gid)] = seq
+            count.sequences.add(parsed[2], parsed[0])
         self._pending[(route[0], route[1], key)].append(sample.payload.to_bytes())
 
     def _scene(self, label: str) -> AxisScene:

@@ -36,6 +36,7 @@ from ..errors import RecordingError
 from ..histogram import DurationHistogram, DurationStats
 from ..wire.attachment import unpack_attachment
 from ..wire.keys import all_keys, topic_for_key
+from ..wire.sequence import SequenceTracker
 from .mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE, Ros2McapWriter
 
 log = logging.getLogger(__name__)
@@ -102,12 +103,16 @@ def check_outputs(config: RecorderConfig) -> None:
 class TopicStats:
     topic: str
     messages: int = 0
-    missed: int = 0
     first_log_ns: int = 0
     last_log_ns: int = 0
-    publishers: dict[bytes, list[int]] = field(default_factory=dict)
-    """publisher id → [first sequence, last sequence, messages] (a sender that restarts is a new
-    publisher: its sequence starts again at 1)"""
+    sequences: SequenceTracker = field(default_factory=SequenceTracker)
+    """per publisher id: its sequence numbers' span, gaps and duplicates (a sender that restarts is a
+    new publisher: its sequence starts again at 1)"""
+
+    @property
+    def missed(self) -> int:
+        """messages lost on the way (gaps in the sequence numbers)"""
+        return self.sequences.missed
 
     @property
     def duration_s(self) -> float:
@@ -149,12 +154,15 @@ class RecordSummary:
             rate = "–" if t.rate_hz is None else f"{t.rate_hz:.1f}"
             lines.append(f"  {t.topic:<40} {t.messages:>9} {t.duration_s:>10.3f} {rate:>9} {t.missed:>7}")
         for t in sorted(self.topics.values(), key=lambda t: t.topic):
-            if len(t.publishers) > 1:
-                spans = ", then ".join(f"seq {a}–{b}" for a, b, _n in t.publishers.values())
+            publishers = t.sequences.publishers.values()
+            if len(publishers) > 1:
+                spans = ", then ".join(f"seq {p.first}–{p.last}" for p in publishers)
                 lines.append(
-                    f"  {t.topic}: {len(t.publishers)} publishers one after the other ({spans}): its sender "
+                    f"  {t.topic}: {len(publishers)} publishers one after the other ({spans}): its sender "
                     "restarted; the stamps show the gap"
                 )
+            if t.sequences.duplicates:
+                lines.append(f"  {t.topic}: {t.sequences.duplicates} messages repeated or out of order")
         if not self.topics:
             lines.append(
                 f"  no message matched {self.keys}: is a publisher running, and reachable with the "
@@ -185,9 +193,16 @@ class RecordSummary:
                     "missed": t.missed,
                     "duration_s": t.duration_s,
                     "rate_hz": t.rate_hz,
+                    "duplicates": t.sequences.duplicates,
                     "publishers": [
-                        {"id": gid.hex(), "first_sequence": a, "last_sequence": b, "messages": n}
-                        for gid, (a, b, n) in t.publishers.items()
+                        {
+                            "id": gid.hex(),
+                            "first_sequence": p.first,
+                            "last_sequence": p.last,
+                            "messages": p.messages,
+                            "missed": p.missed,
+                        }
+                        for gid, p in t.sequences.publishers.items()
                     ],
                 }
                 for t in self.topics.values()
@@ -254,14 +269,7 @@ class Recorder:
         parsed = unpack_attachment(att.to_bytes()) if att is not None else None
         if parsed is not None:
             seq, stamp, gid = parsed
-            span = stats.publishers.get(gid)  # [first, last, count] of this publisher's sequence numbers
-            if span is None:
-                stats.publishers[gid] = [seq, seq, 1]
-            else:
-                if seq > span[1] + 1:
-                    stats.missed += seq - span[1] - 1
-                span[1] = seq
-                span[2] += 1
+            stats.sequences.add(gid, seq)
             if abs(now - stamp) <= LIVE_STAMP_WINDOW_NS:
                 self._latency.add_ns(now - stamp)
             else:
