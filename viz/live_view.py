@@ -14,9 +14,10 @@ layout (the blueprint is sent again). Per key and publisher, gaps in the attachm
 numbers count the messages lost on the way; the latency is measured from each sample's header stamp
 (drive time) to the moment its batch was handed to rerun.
 
-The loop stops when ``stop`` is set (SIGINT/SIGTERM through
-:func:`~axisflow.acquisition.shutdown.stop_on_signals`) or after ``duration_s``, after draining what
-the channel holds; the subscriber is undeclared before the caller closes the session.
+The subscriber joins first (its routes proven: :mod:`~axisflow.acquisition.bus.readiness`). The loop
+stops when ``stop`` is set (SIGINT/SIGTERM through :func:`axisflow.processes.stop_on_signals`) or after
+``duration_s``, after one more hello and draining what the channel holds; the subscriber is undeclared
+before the caller closes the session.
 """
 
 from __future__ import annotations
@@ -31,7 +32,8 @@ from typing import Any, TypeVar
 import numpy as np
 import zenoh
 
-from ..acquisition.bus.session import check_key_expression, settle
+from ..acquisition.bus.readiness import JoinedSubscriber
+from ..acquisition.bus.session import check_key_expression
 from ..acquisition.errors import WireError
 from ..acquisition.histogram import DurationHistogram, DurationStats
 from ..acquisition.wire.attachment import unpack_attachment
@@ -160,7 +162,7 @@ class LiveView:
         self.queue_capacity = queue_capacity
         self.report = LiveReport(keys)
         self.ready = threading.Event()
-        """set once the subscriber is declared"""
+        """set once the subscriber has joined: nothing published from then on is missed"""
         self._scenes: dict[str, AxisScene] = {}
         self._pending: dict[tuple[str, str, str], list[bytes]] = defaultdict(list)
         self._routes: dict[str, tuple[str, str] | None] = {}
@@ -169,16 +171,19 @@ class LiveView:
     def run(
         self, session: zenoh.Session, stop: threading.Event, duration_s: float | None = None
     ) -> LiveReport:
-        """Receive and stream until ``stop`` is set or ``duration_s`` has passed."""
-        settle(session)  # a subscriber declared on a new session may lose samples (bus.session.settle)
+        """Receive and stream until ``stop`` is set or ``duration_s`` has passed (counted from the moment
+        the subscriber has joined: :class:`~axisflow.acquisition.bus.readiness.JoinedSubscriber`)."""
         t0 = time.monotonic()
-        deadline = None if duration_s is None else t0 + duration_s
-        next_flush = t0 + self.batch_interval_s
+        handler = lambda: zenoh.handlers.FifoChannel(self.queue_capacity)  # noqa: E731
         try:
-            with session.declare_subscriber(
-                self.keys, zenoh.handlers.FifoChannel(self.queue_capacity)
-            ) as sub:
+            with JoinedSubscriber(session, self.keys, handler, stop=stop) as joined:
+                sub = joined.subscriber
+                if sub is None:  # stopped while joining
+                    return self.report
                 self.ready.set()
+                started = time.monotonic()
+                deadline = None if duration_s is None else started + duration_s
+                next_flush = started + self.batch_interval_s
                 while True:
                     got = self._drain(sub)
                     now = time.monotonic()
@@ -186,6 +191,7 @@ class LiveView:
                         self._flush()
                         next_flush = now + self.batch_interval_s
                     if stop.is_set() or (deadline is not None and now >= deadline):
+                        joined.flush()
                         while self._drain(sub):
                             pass
                         break

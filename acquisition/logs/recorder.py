@@ -8,10 +8,17 @@ attachment (:mod:`~axisflow.acquisition.wire.attachment`). A channel and its ``r
 registered the first time a key appears; the type comes from the sample's ``application/cdr;<type>``
 encoding.
 
+Joining. The subscriber is declared once the routes from the publishers on the recorded keys are
+proven (:class:`~axisflow.acquisition.bus.readiness.JoinedSubscriber`): from then on the recorder is
+*ready* (``ready`` is set, ``on_ready`` called, the liveliness token
+:func:`~axisflow.acquisition.wire.keys.recorder_token` declared) and misses nothing an axisflow
+publisher sends.
+
 Crash safety. About once a second (``flush_interval_s``) the open chunk is written and fsynced, so a
 SIGKILL loses at most the last second; the file on disk stays readable by a streaming read and
-``axisflow recover`` rebuilds it into a complete one. SIGINT/SIGTERM (set ``stop``) drain the
-channel, then write the summary and footer: nothing received is lost.
+``axisflow recover`` rebuilds it into a complete one. SIGINT/SIGTERM (set ``stop``): one hello proves
+that what the publishers sent before it has arrived, the channel is drained, then the summary and
+footer are written: nothing sent before the stop is lost.
 
 Splitting: with ``split_bytes`` or ``split_duration_s`` the recording rolls over to
 ``<stem>_0000.mcap``, ``<stem>_0001.mcap``, … at the first flush past the limit.
@@ -23,19 +30,23 @@ sequence numbers of each publisher (key, publisher id); publish→write latency 
 from __future__ import annotations
 
 import logging
+import os
+import socket
 import threading
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import zenoh
 
 from ..bus.publisher import mcap_encoding_of
-from ..bus.session import check_key_expression, settle
+from ..bus.readiness import HELLO_TIMEOUT_S, JoinedSubscriber, JoinReport
+from ..bus.session import check_key_expression
 from ..errors import RecordingError
 from ..histogram import DurationHistogram, DurationStats
 from ..wire.attachment import unpack_attachment
-from ..wire.keys import all_keys, topic_for_key
+from ..wire.keys import all_keys, recorder_token, topic_for_key
 from ..wire.sequence import SequenceTracker
 from .mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE, Ros2McapWriter
 
@@ -59,6 +70,8 @@ class RecorderConfig:
     split_duration_s: float | None = None
     chunk_size: int = DEFAULT_CHUNK_SIZE
     queue_capacity: int = DEFAULT_QUEUE_CAPACITY
+    join_timeout_s: float = HELLO_TIMEOUT_S
+    """how long the publishers on ``keys`` may take to answer the join's hellos [s]"""
     overwrite: bool = False
     """replace existing recordings (``output`` or its split files) instead of refusing to start"""
 
@@ -135,6 +148,8 @@ class RecordSummary:
     """publish (attachment stamp) → write [µs]"""
     stale_stamps: int = 0
     """messages whose stamp was more than LIVE_STAMP_WINDOW_NS from the wall clock (not in latency)"""
+    joined: JoinReport | None = None
+    """how the subscriber joined (the publishers whose routes were proven)"""
 
     @property
     def messages(self) -> int:
@@ -147,7 +162,7 @@ class RecordSummary:
     def format(self) -> str:
         lines = [
             f"recorded {self.messages} messages on {len(self.topics)} topics in {self.wall_time_s:.3f} s "
-            f"to {', '.join(str(f) for f in self.files)}; missed {self.missed}",
+            f"to {', '.join(str(f) for f in self.files) or 'no file'}; missed {self.missed}",
             f"  {'topic':<40} {'messages':>9} {'duration s':>10} {'rate Hz':>9} {'missed':>7}",
         ]
         for t in sorted(self.topics.values(), key=lambda t: t.topic):
@@ -163,7 +178,9 @@ class RecordSummary:
                 )
             if t.sequences.duplicates:
                 lines.append(f"  {t.topic}: {t.sequences.duplicates} messages repeated or out of order")
-        if not self.topics:
+        if not self.files:
+            lines.append("  stopped before the recording began: no file written")
+        elif not self.topics:
             lines.append(
                 f"  no message matched {self.keys}: is a publisher running, and reachable with the "
                 "--connect/--listen endpoints given?"
@@ -228,7 +245,7 @@ class Recorder:
         self._file_started = 0.0
         self._latency = DurationHistogram()
         self.ready = threading.Event()
-        """set once the subscriber is declared"""
+        """set once the subscriber has joined: nothing published from then on is missed"""
 
     def _open_next(self) -> Ros2McapWriter:
         path = split_path(self.config.output, self._file_index) if self._split else self.config.output
@@ -280,50 +297,41 @@ class Recorder:
         stats.messages += 1
         stats.last_log_ns = now
 
-    def run(self, session: zenoh.Session, stop: threading.Event | None = None) -> RecordSummary:
-        """Record until ``stop`` is set or ``duration_s`` has passed; returns the summary."""
+    def run(
+        self,
+        session: zenoh.Session,
+        stop: threading.Event | None = None,
+        on_ready: Callable[[], None] | None = None,
+    ) -> RecordSummary:
+        """Record until ``stop`` is set or ``duration_s`` has passed; returns the summary.
+        ``on_ready`` is called once the subscriber has joined (see the module docstring)."""
         stop = stop or threading.Event()
         c = self.config
-        settle(session)  # a subscriber declared on a new session may lose samples (bus.session.settle)
         t0 = time.monotonic()
-        deadline = None if c.duration_s is None else t0 + c.duration_s
-        next_flush = t0 + c.flush_interval_s
-        self._writer = self._open_next()
         failure: OSError | None = None
-        try:
-            with session.declare_subscriber(c.keys, zenoh.handlers.FifoChannel(c.queue_capacity)) as sub:
-                self.ready.set()
-                while True:
-                    sample = sub.try_recv()
-                    if sample is not None:
-                        self._write(sample)
-                        # drain a batch before looking at the clock
-                        for _ in range(255):
-                            sample = sub.try_recv()
-                            if sample is None:
-                                break
-                            self._write(sample)
-                    now = time.monotonic()
-                    if now >= next_flush:
-                        self._writer.flush()
-                        next_flush = now + c.flush_interval_s
-                        if self._split:
-                            self._maybe_split()
-                    if stop.is_set() or (deadline is not None and now >= deadline):
-                        while (sample := sub.try_recv()) is not None:
-                            self._write(sample)
-                        break
-                    if sample is None:
-                        time.sleep(_IDLE_SLEEP_S)
-        except OSError as exc:  # a full disk, a file system gone read-only
-            failure = exc
-        finally:
+        handler = lambda: zenoh.handlers.FifoChannel(c.queue_capacity)  # noqa: E731
+        # joined before the file is created: a recorder that cannot join leaves no file behind
+        token = recorder_token(socket.gethostname(), os.getpid())
+        with JoinedSubscriber(session, c.keys, handler, c.join_timeout_s, stop, token) as joined:
+            if joined.subscriber is None:  # stopped before it was ready: nothing to write
+                self.summary.wall_time_s = time.monotonic() - t0
+                return self.summary
+            self.summary.joined = joined.report
+            self._writer = self._open_next()
             try:
-                self._writer.finish()
-            except OSError as exc:
-                failure = failure or exc
-            self.summary.wall_time_s = time.monotonic() - t0
-            self.summary.latency = self._latency.stats()
+                self.ready.set()
+                if on_ready is not None:
+                    on_ready()
+                self._record(joined, stop, time.monotonic())
+            except OSError as exc:  # a full disk, a file system gone read-only
+                failure = exc
+            finally:
+                try:
+                    self._writer.finish()
+                except OSError as exc:
+                    failure = failure or exc
+                self.summary.wall_time_s = time.monotonic() - t0
+                self.summary.latency = self._latency.stats()
         if failure is not None:
             path = self._writer.path
             raise RecordingError(
@@ -331,3 +339,34 @@ class Recorder:
                 f"(`axisflow recover {path}` rebuilds it into a complete file)"
             )
         return self.summary
+
+    def _record(self, joined: JoinedSubscriber, stop: threading.Event, started: float) -> None:
+        """The recording loop: drain, write, flush every ``flush_interval_s``, until stopped."""
+        c = self.config
+        sub = joined.subscriber
+        assert sub is not None and self._writer is not None
+        deadline = None if c.duration_s is None else started + c.duration_s
+        next_flush = started + c.flush_interval_s
+        while True:
+            sample = sub.try_recv()
+            if sample is not None:
+                self._write(sample)
+                # drain a batch before looking at the clock
+                for _ in range(255):
+                    sample = sub.try_recv()
+                    if sample is None:
+                        break
+                    self._write(sample)
+            now = time.monotonic()
+            if now >= next_flush:
+                self._writer.flush()
+                next_flush = now + c.flush_interval_s
+                if self._split:
+                    self._maybe_split()
+            if stop.is_set() or (deadline is not None and now >= deadline):
+                joined.flush()  # what was sent before now has arrived: drain it all
+                while (sample := sub.try_recv()) is not None:
+                    self._write(sample)
+                return
+            if sample is None:
+                time.sleep(_IDLE_SLEEP_S)

@@ -17,6 +17,7 @@ from typing import NoReturn
 
 from .. import __version__
 from ..model import AxisflowError
+from ..processes import follow_launcher
 
 # command modules, in the order --help lists them
 COMMAND_MODULES: tuple[str, ...] = (
@@ -65,6 +66,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    follow_launcher()  # a child of axisflow's launcher ends with it (axisflow/processes.py)
     try:
         return _main(argv)
     except BrokenPipeError:

@@ -7,10 +7,10 @@ import json
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..acquisition.shutdown import stop_on_signals
 from ..acquisition.wire.keys import all_keys
 from ..arguments import add_params_option, finite_float, non_negative_int, params_from_args
 from ..model import AxisParams
+from ..processes import stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 if TYPE_CHECKING:

@@ -272,7 +272,7 @@ def test_the_commands_take_the_files_router_bridge_record(cli, tmp_path):
     secure = Secure(tmp_path / "sec", port)
     init_security(SecurityPlan(secure.directory, port=port, days=1))
     router = cli.start("router", "--zenoh-config", str(secure.config("router")))
-    assert "listening on" in router.stdout.readline()
+    assert _wait_until(lambda: "listening on" in router.stdout_text(), 30.0)
     out = tmp_path / "session.mcap"
     rec = cli.start("record", "-o", str(out), "--zenoh-config", str(secure.config("recorder")))
     assert _wait_until(lambda: out.exists() and out.stat().st_size > 0, 30.0)

@@ -213,3 +213,20 @@ def test_plan_record_round_trip_and_reference_codec():
         0, "a0", 1, "", "", 0, "min-time", "poly3", "ipopt", 0.9, 0, 0.1, 0.3, 1, "signed", 30, 0, "x", 9, 0
     )
     assert PlanRecord.decode(empty.encode()).certificate == {}
+
+
+def test_a_hello_round_trips_and_refuses_what_is_not_one():
+    from axisflow.acquisition.wire.hello import Hello
+
+    hello = Hello("axisflow/a0/state", "ab" * 16, "0123456789abcdef", "host-1", 4242)
+    assert Hello.decode(hello.encode()) == hello
+    assert hello.where == "pid 4242 on host host-1 (Zenoh id 0123456789abcdef)"
+    for bad, says in (
+        (b"not json", "undecodable hello"),
+        (b"[1, 2]", "undecodable hello"),
+        (b'{"key": "k"}', "undecodable hello"),
+        (hello.encode().replace(b"4242", b"-1"), "pid = -1"),
+        (hello.encode().replace(b'"host-1"', b"7"), "host = 7"),
+    ):
+        with pytest.raises(WireError, match=says):
+            Hello.decode(bad)
