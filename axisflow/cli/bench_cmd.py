@@ -17,6 +17,7 @@ BENCHMARKS: dict[str, str] = {
     "identify": "identify",
     "view": "view",
     "faults": "faults",
+    "joins": "joins",
 }
 
 
