@@ -59,8 +59,8 @@ DEFAULT_LOOKAHEAD_S = 10.0
 """drive time kept queued behind the running move [s]: at --speed 0 the bridge runs ~11× real time on
 two cores shared by three processes, and a planner that loses the CPU for 150 ms (seen on a loaded
 machine) finds the queue 1.6 s of drive time shorter"""
-RECORDER_READY_TIMEOUT_S = 30.0
-"""how long a recorder may take to start and join [s]"""
+READY_TIMEOUT_S = 60.0
+"""how long the bridge, or a recorder, may take to start (and the recorder to join) [s]"""
 
 
 @dataclass(frozen=True)
@@ -102,8 +102,10 @@ def run_demo(
     try:
         progress(f"session folder {out}; bridge (simulated axis, --speed {settings.speed:g}) on {endpoint}")
         bridge = children.start(
-            "bridge", "bridge", "--sim", "--speed", f"{settings.speed:g}", "--listen", endpoint, *params_args
-        )
+            "bridge", "bridge", "--sim", "--speed", f"{settings.speed:g}", "--listen", endpoint, *params_args,
+            ready=True,
+        )  # fmt: skip
+        children.wait_ready(bridge, READY_TIMEOUT_S)
         with open_session(ZenohOptions(connect=(endpoint,))) as session:
             keys = AxisKeys()
             # 1. excitation
@@ -174,10 +176,10 @@ class _recording:  # noqa: N801 - a context manager, read as a phrase
     def __enter__(self) -> None:
         args = ("record", "-o", str(self.path), "--connect", self.endpoint)
         self.proc = self.children.start(f"recorder-{self.path.stem}", *args, ready=True)
-        self.children.wait_ready(self.proc, RECORDER_READY_TIMEOUT_S)
+        self.children.wait_ready(self.proc, READY_TIMEOUT_S)
         # this session, which sends the moves, knows the recorder's subscriber once it sees its token
         token = recorder_token(socket.gethostname(), self.proc.pid)
-        if not wait_for_token(self.session, token, RECORDER_READY_TIMEOUT_S):  # type: ignore[arg-type]
+        if not wait_for_token(self.session, token, READY_TIMEOUT_S):  # type: ignore[arg-type]
             raise AxisflowError(f"the recorder of {self.path} was ready, but its token {token} never came")
 
     def __exit__(self, *_exc: object) -> None:
