@@ -19,6 +19,7 @@ FOLDERS = {
     "viz": "viz",
     "benchmarks": "benchmarks",
     "axisflow/cli": "cli",
+    "axisflow/faults": "top",
     "axisflow": "top",
 }
 # what each layer may import (besides itself); the README's layout table says the same

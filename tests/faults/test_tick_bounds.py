@@ -16,8 +16,11 @@ from axisflow.acquisition import (
 )
 from axisflow.acquisition.bridge.bridge import MOVES_PER_TICK, STATUSES_PER_TICK, Bridge
 from axisflow.acquisition.bridge.move_intake import MAX_PAYLOAD_BYTES
-from axisflow.benchmarks.faults import RawSender, StatusWatch, wait_until
 from axisflow.model import default_params
+
+from axisflow.faults.payloads import RawSender
+from axisflow.faults.rig import StatusWatch
+from axisflow.processes import wait_until
 
 P = default_params()
 KEYS = AxisKeys("a0")
