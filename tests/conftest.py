@@ -6,6 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from axisflow.acquisition import RecordingError, iter_recording
 from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
 
@@ -58,6 +59,15 @@ class Cli:
     def wait_for_file(path: Path, timeout: float = 10.0) -> None:
         if not wait_until(lambda: path.exists() and path.stat().st_size > 0, timeout):
             pytest.fail(f"{path} did not appear within {timeout} s")
+
+    @staticmethod
+    def on_disk(path: Path, topic: str | None = None) -> int:
+        """Messages (of ``topic``) flushed to a recording so far, read as a stream (0 before the file
+        or its header is written)."""
+        try:
+            return sum(1 for r in iter_recording(path) if topic is None or r.channel.topic == topic)
+        except RecordingError:
+            return 0
 
     @staticmethod
     def decoded(path: Path, topic: str) -> list:

@@ -169,10 +169,15 @@ class LiveView:
         self._latency = DurationHistogram(limit_us=1_000_000)
 
     def run(
-        self, session: zenoh.Session, stop: threading.Event, duration_s: float | None = None
+        self,
+        session: zenoh.Session,
+        stop: threading.Event,
+        duration_s: float | None = None,
+        on_ready: Callable[[], None] | None = None,
     ) -> LiveReport:
         """Receive and stream until ``stop`` is set or ``duration_s`` has passed (counted from the moment
-        the subscriber has joined: :class:`~axisflow.acquisition.bus.readiness.JoinedSubscriber`)."""
+        the subscriber has joined: :class:`~axisflow.acquisition.bus.readiness.JoinedSubscriber`);
+        ``on_ready`` is called then."""
         t0 = time.monotonic()
         handler = lambda: zenoh.handlers.FifoChannel(self.queue_capacity)  # noqa: E731
         try:
@@ -181,6 +186,8 @@ class LiveView:
                 if sub is None:  # stopped while joining
                     return self.report
                 self.ready.set()
+                if on_ready is not None:
+                    on_ready()
                 started = time.monotonic()
                 deadline = None if duration_s is None else started + duration_s
                 next_flush = started + self.batch_interval_s

@@ -293,6 +293,11 @@ class Bridge:
         finally:
             self._stack.close()
 
+    @property
+    def moves_waiting(self) -> int:
+        """Moves received and validated by the intake that no tick has taken yet."""
+        return self._intake.waiting
+
     # ---- one tick ---------------------------------------------------------------------------------
     def step(self) -> None:
         """Run tick :attr:`tick`: senders, new moves, sample, setpoint (see the module docstring)."""

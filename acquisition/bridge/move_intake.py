@@ -140,6 +140,11 @@ class MoveIntake:
             log.exception("validating move %d failed", cmd.move_id)
             return ReceivedMove(cmd, None, sender, f"move {cmd.move_id}: validation failed: {exc}")
 
+    @property
+    def waiting(self) -> int:
+        """Moves received and validated, not yet taken by :meth:`poll`."""
+        return self._results.qsize()
+
     def poll(self, limit: int | None = None) -> list[ReceivedMove]:
         """The moves received and validated since the last call, in arrival order (at most ``limit``;
         the rest stay for the next call)."""

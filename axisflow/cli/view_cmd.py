@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 from ..acquisition.wire.keys import all_keys
 from ..arguments import add_params_option, finite_float, non_negative_int, params_from_args
 from ..model import AxisParams
-from ..processes import stop_on_signals
+from ..processes import notify_ready, stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 if TYPE_CHECKING:
@@ -123,7 +123,7 @@ def _run_live(args: argparse.Namespace, params: AxisParams) -> int:
         view = LiveView(out, params, keys)
         if out.web_url:
             print(f"serving the view at {out.web_url}", flush=True)
-        report = view.run(session, stop, args.duration)
+        report = view.run(session, stop, args.duration, on_ready=notify_ready)
     _print(args, {**report.to_dict(), "rrd": str(output.rrd) if output.rrd else None}, report.format())
     if output.rrd is not None and not args.json:
         print(f"wrote {output.rrd}", flush=True)

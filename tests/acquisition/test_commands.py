@@ -213,19 +213,25 @@ def test_a_bridge_waits_for_its_recorder_and_stamps_its_samples_when_it_starts(c
     """--wait-subscribers really waits (the recorder starts 2 s after the bridge and still gets the
     first sample), and the drive's clock starts with the loop (stamps close to the publish time)."""
     import signal
-    import time
+
+    from axisflow.acquisition import AxisKeys, ZenohOptions, open_session
+    from axisflow.acquisition.bus.readiness import wait_for_token
+
+    from axisflow.processes import wait_until
 
     out = tmp_path / "late.mcap"
     bridge = cli.start(
         "bridge", "--sim", "--listen", f"tcp/127.0.0.1:{port}", "--duration", "1", "--wait-subscribers", "60"
     )
-    time.sleep(2.0)
-    assert bridge.poll() is None  # still waiting
+    with open_session(ZenohOptions.loopback(connect_port=port)) as session:
+        assert wait_for_token(session, AxisKeys().alive, 60.0)  # it is up (its token is declared last)
+    assert bridge.poll() is None  # and still waiting
     rec = cli.start(
         "record", "-o", str(out), "--connect", f"tcp/127.0.0.1:{port}", "--keys", "axisflow/*/state"
     )
     _out, err = cli.finish(bridge, timeout=60)
     assert bridge.returncode == 0, err
+    assert wait_until(lambda: cli.on_disk(out) == 1000, 30.0)  # all flushed to disk
     rec.send_signal(signal.SIGINT)
     cli.finish(rec)
     msgs = cli.decoded(out, "/axisflow/a0/state")

@@ -1,13 +1,12 @@
 """SIGINT, SIGTERM and SIGKILL of the recorder mid-run (real processes, real files)."""
 
-import contextlib
 import signal
 import time
 from pathlib import Path
 
 import numpy as np
 import pytest
-from axisflow.acquisition import RecordingError, is_complete, iter_recording
+from axisflow.acquisition import is_complete, iter_recording
 
 from axisflow.processes import wait_until
 
@@ -25,13 +24,9 @@ def _start_pipeline(cli, out: Path, *record_args: str):
     return rec, bridge
 
 
-def _on_disk(paths: list[Path]) -> int:
-    """State samples flushed to ``paths`` so far (a streaming read; a file not written yet holds none)."""
-    count = 0
-    for path in paths:
-        with contextlib.suppress(RecordingError):  # not there yet, or its header not flushed yet
-            count += len(_state_sequences(path))
-    return count
+def _on_disk(cli, paths: list[Path]) -> int:
+    """State samples flushed to ``paths`` so far."""
+    return sum(cli.on_disk(p, STATE) for p in paths)
 
 
 def _state_sequences(path: Path) -> np.ndarray:
@@ -42,7 +37,7 @@ def _state_sequences(path: Path) -> np.ndarray:
 def test_sigint_sigterm_finish_the_file_and_lose_nothing(cli, tmp_path, sig):
     out = tmp_path / "run.mcap"
     rec, bridge = _start_pipeline(cli, out)
-    assert wait_until(lambda: _on_disk([out]) > 500, 30.0)  # flushed every second
+    assert wait_until(lambda: _on_disk(cli, [out]) > 500, 30.0)  # flushed every second
     assert bridge.poll() is None  # mid-run: the bridge is still publishing
     rec.send_signal(sig)
     rec_out, rec_err = cli.finish(rec)
@@ -63,7 +58,7 @@ def test_sigkill_loses_at_most_a_second_and_recover_rebuilds_the_file(cli, tmp_p
 
     out = tmp_path / "run.mcap"
     rec, bridge = _start_pipeline(cli, out)
-    assert wait_until(lambda: _on_disk([out]) > 1000, 30.0)  # two flushes and more
+    assert wait_until(lambda: _on_disk(cli, [out]) > 1000, 30.0)  # two flushes and more
     assert bridge.poll() is None  # mid-run
     killed_ns = time.time_ns()
     rec.send_signal(signal.SIGKILL)
@@ -94,7 +89,7 @@ def test_split_gives_complete_consecutive_files(cli, tmp_path, split):
     rec, bridge = _start_pipeline(cli, out, *split)
     cli.finish(bridge)
     # every tick the bridge published is flushed to the split files (each second)
-    assert wait_until(lambda: _on_disk(sorted(tmp_path.glob("run_*.mcap"))) == 4000, 30.0)
+    assert wait_until(lambda: _on_disk(cli, sorted(tmp_path.glob("run_*.mcap"))) == 4000, 30.0)
     rec.send_signal(signal.SIGINT)
     cli.finish(rec)
     files = sorted(tmp_path.glob("run_*.mcap"))
