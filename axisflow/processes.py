@@ -322,13 +322,15 @@ class Launcher:
         return self.wait(child, timeout_s)
 
     def stop_running(self, timeout_s: float = STOP_TIMEOUT_S) -> list[Exited]:
-        """Stop every child still running, the last started first (:meth:`stop`); forget the finished
-        ones. Returns how the stopped ones ended."""
-        stopped = []
-        for child in reversed(self.children):
-            if child.poll() is None:
-                stopped.append(self.stop(child, timeout_s))
-            elif child.ready_fd is not None:
+        """Stop every child still running — SIGINT to all (the last started first), then wait for
+        each, killing one that hangs — and forget the finished ones. Returns how the stopped ones
+        ended."""
+        running = [c for c in reversed(self.children) if c.poll() is None]
+        for child in running:
+            child.send_signal(signal.SIGINT)
+        stopped = [self.wait(child, timeout_s) for child in running]
+        for child in self.children:
+            if child.ready_fd is not None:
                 os.close(child.ready_fd)
                 child.ready_fd = None
         self.children.clear()
