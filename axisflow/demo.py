@@ -206,12 +206,10 @@ def _run_experiment(
     node_settings = NodeSettings(keys, runs, DEFAULT_OMEGA, settings.lookahead, settings.lookahead_s, label)
     backend = make_backend(settings.solver)
 
-    def run_lines(line: str) -> None:  # the node's per-run summaries, not its every-10-moves lines
-        if not line.startswith("  "):
-            progress("  " + line)
-
-    with PlannerNode(session, node_settings, params, backend, run_lines, stop) as node:  # type: ignore[arg-type]
-        node.run(waypoints)  # type: ignore[arg-type]
+    # the node's progress (every tenth move), then each run's summary
+    with PlannerNode(session, node_settings, params, backend, progress, stop) as node:  # type: ignore[arg-type]
+        for report in node.run(waypoints):  # type: ignore[arg-type]
+            progress("  " + report.summary())
 
 
 def _table(out: Path, path: Path, label: str) -> RecordedTable:

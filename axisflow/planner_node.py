@@ -170,7 +170,6 @@ class PlannerNode:
         for run in self.settings.runs:
             report = self._run_one(run, waypoints_m, x_now)
             reports.append(report)
-            self._say(report.summary())
             x_now = float(waypoints_m[-1])
         return reports
 
