@@ -196,13 +196,28 @@ class Child(subprocess.Popen):
         return self.err_path.read_text(errors="replace")
 
 
-def _command(fsize_limit_bytes: int | None) -> list[str]:
-    prelude = ""
+COMMAND_LINE = "axisflow.cli:main"
+"""the entry point a child runs unless told otherwise: the ``axisflow`` command line"""
+
+
+def _command(entry: str, fsize_limit_bytes: int | None) -> list[str]:
+    """``python -c`` running ``entry`` (``module:function``; its arguments follow in ``sys.argv``)."""
+    module, _, function = entry.partition(":")
+    if not module or not function.isidentifier():
+        raise LaunchError(f"entry point {entry!r} is not of the form module:function")
+    # the command line follows the lifeline itself; another entry point is made to here
+    prelude = (
+        "" if entry == COMMAND_LINE else "from axisflow.processes import follow_launcher; follow_launcher(); "
+    )
     if fsize_limit_bytes is not None:
         # a disk that fills up: Python ignores SIGXFSZ, so a write past the limit fails with EFBIG
         limit = int(fsize_limit_bytes)
-        prelude = f"import resource; resource.setrlimit(resource.RLIMIT_FSIZE, ({limit}, {limit})); "
-    return [sys.executable, "-c", f"import sys; {prelude}from axisflow.cli import main; sys.exit(main())"]
+        prelude += f"import resource; resource.setrlimit(resource.RLIMIT_FSIZE, ({limit}, {limit})); "
+    return [
+        sys.executable,
+        "-c",
+        f"import sys; {prelude}from {module} import {function}; sys.exit({function}())",
+    ]
 
 
 class Launcher:
@@ -225,10 +240,16 @@ class Launcher:
         self._started: dict[str, int] = {}
 
     def start(
-        self, name: str, *args: str, ready: bool = False, fsize_limit_bytes: int | None = None
+        self,
+        name: str,
+        *args: str,
+        ready: bool = False,
+        fsize_limit_bytes: int | None = None,
+        entry: str = COMMAND_LINE,
     ) -> Child:
         """``axisflow ARGS`` in the background. ``ready``: the command says when it is ready
-        (:meth:`wait_ready`); ``fsize_limit_bytes``: RLIMIT_FSIZE of the process (a full disk)."""
+        (:meth:`wait_ready`); ``fsize_limit_bytes``: RLIMIT_FSIZE of the process (a full disk);
+        ``entry``: another ``module:function`` of axisflow to run with ARGS (a benchmark's publisher)."""
         if self._lifeline_write < 0:
             raise LaunchError(f"cannot start {name}: the launcher is closed")
         name = self._unique(name)
@@ -243,7 +264,7 @@ class Launcher:
         try:
             with open(out_path, "w") as out, open(err_path, "w") as err:
                 child = Child(
-                    [*_command(fsize_limit_bytes), *args],
+                    [*_command(entry, fsize_limit_bytes), *args],
                     stdout=out,
                     stderr=err,
                     env=env,
@@ -254,7 +275,7 @@ class Launcher:
                     start_new_session=True,
                 )
                 # Popen's args are this command line; keep the axisflow arguments for messages
-                child.args = ["axisflow", *args]
+                child.args = ["axisflow" if entry == COMMAND_LINE else entry, *args]
         except BaseException:
             for fd in (ready_read, ready_write):
                 if fd is not None:
