@@ -185,6 +185,8 @@ class Child(subprocess.Popen):
     """One ``axisflow`` command started by a :class:`Launcher` (a :class:`subprocess.Popen`)."""
 
     name: str
+    command: str
+    """what it runs, as a person would type it (``axisflow record -o …``)"""
     out_path: Path
     err_path: Path
     ready_fd: int | None
@@ -274,8 +276,6 @@ class Launcher:
                     # stops its children in order
                     start_new_session=True,
                 )
-                # Popen's args are this command line; keep the axisflow arguments for messages
-                child.args = ["axisflow" if entry == COMMAND_LINE else entry, *args]
         except BaseException:
             for fd in (ready_read, ready_write):
                 if fd is not None:
@@ -285,6 +285,7 @@ class Launcher:
             if ready_write is not None:
                 os.close(ready_write)
         child.name, child.out_path, child.err_path, child.ready_fd = name, out_path, err_path, ready_read
+        child.command = " ".join(["axisflow" if entry == COMMAND_LINE else entry, *args])
         self.children.append(child)
         return child
 
@@ -307,16 +308,16 @@ class Launcher:
         if readable:  # end of file: it exited without getting ready
             child.wait()
             raise LaunchError(
-                f"{' '.join(child.args)} exited with code {child.returncode} before it was ready: "
+                f"{child.command} exited with code {child.returncode} before it was ready: "
                 f"{_last_line(child.stderr_text())}"
             )
-        raise LaunchError(f"{' '.join(child.args)} was not ready within {timeout_s:g} s")
+        raise LaunchError(f"{child.command} was not ready within {timeout_s:g} s")
 
     def check_alive(self, child: Child) -> None:
         """A :class:`LaunchError` if ``child`` has exited (naming its code and last error line)."""
         if child.poll() is not None:
             raise LaunchError(
-                f"{' '.join(child.args)} exited early with code {child.returncode}: "
+                f"{child.command} exited early with code {child.returncode}: "
                 f"{_last_line(child.stderr_text())}"
             )
 

@@ -52,7 +52,7 @@ class Cli:
         end = self.launcher.wait(proc, timeout)
         if end.timed_out:
             output = f"stdout:\n{end.stdout}\nstderr:\n{end.stderr}"
-            pytest.fail(f"axisflow {proc.args[1:]} did not exit within {timeout} s\n{output}")
+            pytest.fail(f"{proc.command} did not exit within {timeout} s\n{output}")
         return end
 
     @staticmethod

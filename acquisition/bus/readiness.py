@@ -278,7 +278,9 @@ class MatchWatch:
         self._listeners = []
         for i, pub in enumerate(publishers):
             self._listeners.append(pub.declare_matching_listener(self._callback(i)))
-            self._set(i, pub.matching_status.matching)
+            # zenoh 1.10 returns a MatchingStatus here (its stub says bool; the matching watch's test
+            # holds this to the behaviour)
+            self._set(i, pub.matching_status.matching)  # type: ignore[attr-defined]
 
     def _callback(self, index: int) -> Callable[[zenoh.MatchingStatus], None]:
         return lambda status: self._set(index, status.matching)

@@ -76,7 +76,10 @@ class StatusWatch:
 
     def __init__(self, session: Any, keys: AxisKeys = KEYS) -> None:
         self._session, self._keys = session, keys
-        handler = lambda: zenoh.handlers.FifoChannel(1 << 18)  # noqa: E731
+
+        def handler() -> zenoh.handlers.FifoChannel:
+            return zenoh.handlers.FifoChannel(1 << 18)
+
         self._joined = JoinedSubscriber(session, keys.event, handler).__enter__()  # misses no status
         self._sub = self._joined.subscriber
         self.statuses: list[MoveStatus] = []
