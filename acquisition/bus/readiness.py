@@ -8,8 +8,8 @@ routes only to the subscribers it knows. A subscriber declared right after its s
 caught between the two: its session has already answered (without it), so the publisher first sends
 it everything, then — having read the answer — nothing, until the subscriber's own declaration
 arrives a few milliseconds later. The subscriber sees a few samples, then a run of tens to hundreds
-missing (measured: 6–10 joins in 100 against a publisher at full speed; docs/acquisition.md). Waiting
-a fixed time before declaring hid it; a fact proves it gone:
+missing (docs/acquisition.md counts how often, with ``axisflow bench joins``). Waiting a fixed time
+before declaring hid it; a fact proves it gone:
 
 1. **hello** — the joining session asks every publisher whose key matches its subscription
    (:func:`say_hello`; each :class:`~.publisher.SequencedPublisher` answers on
@@ -63,7 +63,7 @@ _STOP_POLL_S = 0.05
 """how often a hello looks at its stop event while it waits [s]"""
 _HELLO_PRIORITY = zenoh.Priority.DATA
 """the priority of Zenoh's declarations in 1.10 (``QoSType::DECLARE``): the hello must travel in
-order with them (a hello at REAL_TIME overtook them and left 6 joins in 100 with a gap)"""
+order with them (a hello of a higher priority overtakes them: docs/acquisition.md)"""
 
 
 class NotReadyError(AcquisitionError):

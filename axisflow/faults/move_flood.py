@@ -34,8 +34,7 @@ class FloodResult(FaultResult):
     @property
     def rss_growth_mb(self) -> float:
         """RSS after the last flood less after the one before: what a flood leaves behind once the
-        allocator has settled (the first floods grow it by a few MB that later ones reuse: measured
-        3.9, 1.9, 0.2, 0.3, −1.5, 1.2 MB over six floods)"""
+        allocator has settled (the first floods grow it by a few MB that later ones reuse)"""
         n = len(self.per_sender)
         return self.rss_mb[f"after flood {n}"] - self.rss_mb[f"after flood {n - 1}"]
 
