@@ -198,9 +198,12 @@ class LiveView:
                         self._flush()
                         next_flush = now + self.batch_interval_s
                     if stop.is_set() or (deadline is not None and now >= deadline):
-                        joined.flush()
-                        while self._drain(sub):
-                            pass
+                        # one hello, draining meanwhile; then what the channel holds of the time
+                        # before it (at most its capacity: a fast publisher refills it as it drains)
+                        joined.flush(while_waiting=lambda: self._drain(sub))
+                        for _ in range(self.queue_capacity // _DRAIN_BATCH + 1):
+                            if not self._drain(sub):
+                                break
                         break
                     if not got:
                         time.sleep(_IDLE_SLEEP_S)

@@ -61,6 +61,8 @@ JOIN_ATTEMPTS = 5
 """declarations a join tries while new peers keep arriving between its hellos"""
 _STOP_POLL_S = 0.05
 """how often a hello looks at its stop event while it waits [s]"""
+_IDLE_S = 0.0005
+"""the pause of a hello's wait when ``while_waiting`` found nothing to do [s]"""
 _HELLO_PRIORITY = zenoh.Priority.DATA
 """the priority of Zenoh's declarations in 1.10 (``QoSType::DECLARE``): the hello must travel in
 order with them (a hello of a higher priority overtakes them: docs/acquisition.md)"""
@@ -115,10 +117,13 @@ def say_hello(
     key_expr: str,
     timeout_s: float = HELLO_TIMEOUT_S,
     stop: threading.Event | None = None,
+    while_waiting: Callable[[], int] | None = None,
 ) -> HelloRound | None:
     """Ask every publisher on ``key_expr`` for a hello and wait for all answers (see the module
     docstring); a :class:`NotReadyError` naming the peers that did not answer after ``timeout_s``;
-    None if ``stop`` was set first."""
+    None if ``stop`` was set first. ``while_waiting`` is called meanwhile (it returns how much work it
+    did; 0: the wait sleeps a little) — a subscriber keeps draining its channel, so that a full channel
+    does not hold back the answers queued behind its samples."""
     selector = str(zenoh.KeyExpr.autocanonize(hello_selector(key_expr)))
     peers = _peers(session)
     t0 = time.monotonic()
@@ -141,9 +146,11 @@ def say_hello(
         congestion_control=zenoh.CongestionControl.BLOCK,
         timeout=max(timeout_s, 0.001),
     )
-    while not done.wait(_STOP_POLL_S):
+    while not done.is_set():
         if stop is not None and stop.is_set():
             return None
+        if while_waiting is None or not while_waiting():
+            done.wait(_STOP_POLL_S if while_waiting is None else _IDLE_S)
     hellos: list[Hello] = []
     for data in answers:
         try:
@@ -233,11 +240,15 @@ class JoinedSubscriber:
             f"{JOIN_ATTEMPTS} attempts"
         )
 
-    def flush(self, timeout_s: float = FLUSH_TIMEOUT_S) -> bool:
-        """One hello: once answered, everything the publishers sent before it has arrived (drain the
-        handler afterwards). False (and a warning) if some did not answer within ``timeout_s``."""
+    def flush(
+        self, timeout_s: float = FLUSH_TIMEOUT_S, while_waiting: Callable[[], int] | None = None
+    ) -> bool:
+        """One hello: once answered, everything the publishers sent before it has arrived — in the
+        channel, behind at most its capacity of samples (keep draining it with ``while_waiting``
+        meanwhile, then take at most that many). False (and a warning) if some did not answer within
+        ``timeout_s``."""
         try:
-            say_hello(self._session, self.key_expr, timeout_s)
+            say_hello(self._session, self.key_expr, timeout_s, while_waiting=while_waiting)
         except NotReadyError as exc:
             log.warning("%s", exc)
             return False

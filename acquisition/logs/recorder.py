@@ -55,6 +55,8 @@ log = logging.getLogger(__name__)
 DEFAULT_QUEUE_CAPACITY = 1 << 16
 """samples the receive channel holds before it applies back-pressure"""
 _IDLE_SLEEP_S = 0.0005
+_DRAIN_BATCH = 256
+"""samples written before the loop looks at the clock again"""
 LIVE_STAMP_WINDOW_NS = 1_000_000_000
 """a stamp further than this from the wall clock is not live (e.g. a replay): no latency from it"""
 
@@ -83,6 +85,7 @@ class RecorderConfig:
             ("flush interval", self.flush_interval_s, "s"),
             ("split size", self.split_bytes, "bytes"),
             ("split duration", self.split_duration_s, "s"),
+            ("join timeout", self.join_timeout_s, "s"),
         ):
             if value is not None and not value > 0:
                 raise RecordingError(f"recorder {name} = {value} {unit} must be > 0 {unit}")
@@ -341,22 +344,15 @@ class Recorder:
         return self.summary
 
     def _record(self, joined: JoinedSubscriber, stop: threading.Event, started: float) -> None:
-        """The recording loop: drain, write, flush every ``flush_interval_s``, until stopped."""
+        """The recording loop: drain, write, flush every ``flush_interval_s``, until stopped; then one
+        hello (draining meanwhile) and what the channel still holds of the time before it."""
         c = self.config
         sub = joined.subscriber
         assert sub is not None and self._writer is not None
         deadline = None if c.duration_s is None else started + c.duration_s
         next_flush = started + c.flush_interval_s
         while True:
-            sample = sub.try_recv()
-            if sample is not None:
-                self._write(sample)
-                # drain a batch before looking at the clock
-                for _ in range(255):
-                    sample = sub.try_recv()
-                    if sample is None:
-                        break
-                    self._write(sample)
+            written = self._drain(sub, _DRAIN_BATCH)
             now = time.monotonic()
             if now >= next_flush:
                 self._writer.flush()
@@ -364,9 +360,18 @@ class Recorder:
                 if self._split:
                     self._maybe_split()
             if stop.is_set() or (deadline is not None and now >= deadline):
-                joined.flush()  # what was sent before now has arrived: drain it all
-                while (sample := sub.try_recv()) is not None:
-                    self._write(sample)
+                joined.flush(while_waiting=lambda: self._drain(sub, _DRAIN_BATCH))
+                # everything sent before the hello is in the channel now, behind at most its capacity
+                # (a bridge at speed 0 refills it as fast as it is drained: take no more than that)
+                self._drain(sub, c.queue_capacity)
                 return
-            if sample is None:
+            if not written:
                 time.sleep(_IDLE_SLEEP_S)
+
+    def _drain(self, sub: zenoh.Subscriber, limit: int) -> int:
+        """Write up to ``limit`` samples waiting in the channel; returns how many."""
+        n = 0
+        while n < limit and (sample := sub.try_recv()) is not None:
+            self._write(sample)
+            n += 1
+        return n
