@@ -33,6 +33,10 @@ class BridgeLostError(AcquisitionError):
     """The bridge of an axis disappeared while a program waited on its moves."""
 
 
+class AxisTakenError(AcquisitionError):
+    """A bridge was started on an axis that another bridge already runs."""
+
+
 class ZenohConfigError(AcquisitionError, ValueError):
     """The Zenoh options or configuration file are invalid."""
 
@@ -51,8 +55,8 @@ class DamagedLogWarning(AxisflowWarning):
 
 
 def zenoh_reason(exc: BaseException) -> str:
-    """A Zenoh error as one line, without the Rust source location it ends with."""
-    text = re.sub(r"\s+at /\S+\.rs:\d+\.?\s*$", "", str(exc).strip())
+    """A Zenoh error as one line, without the Rust source locations it carries."""
+    text = re.sub(r"\s+at /\S+\.rs:\d+\.?", "", str(exc).strip())
     return " ".join(part.strip(" |") for part in text.splitlines() if part.strip(" |"))
 
 

@@ -17,19 +17,19 @@ their own, on an embedded Zenoh peer network on loopback, then, in this process:
    the paper's figures (``figures/``: Fig. 2 from this excitation, Fig. 5 from the refit run).
 
 Everything lands in one session folder. The bridge runs as fast as the recorder takes its samples
-(``--speed 0``) so that ~25 minutes of axis time take a few minutes; the way point count defaults to
-:data:`DEFAULT_WAYPOINTS` (the paper used 100). Ctrl-C stops everything cleanly: the recordings are
-finished, no process is left running.
+(``--speed 0``; between the phases, with nobody recording, it waits) so that ~25 minutes of axis time
+take a few minutes; the way point count defaults to :data:`DEFAULT_WAYPOINTS` (the paper used 100).
+The bridge and the recorders are started by a :class:`~axisflow.processes.Launcher`: Ctrl-C (or
+SIGTERM) stops everything cleanly — the recordings are finished — and even a SIGKILL of the demo
+leaves no process running (they follow the launcher's lifeline). Each phase begins once its
+recorder's subscriber has joined (its ready byte, then its token seen by this session) and ends with
+the recorder's own stop, which proves nothing was still on the way (acquisition.bus.readiness).
 """
 
 from __future__ import annotations
 
 import json
-import os
-import signal
 import socket
-import subprocess
-import sys
 import threading
 import time
 from collections.abc import Callable
@@ -37,8 +37,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .acquisition import AxisKeys
+from .acquisition.bus.readiness import wait_for_token
 from .acquisition.bus.session import ZenohOptions, open_session
 from .acquisition.drives.plant import DEFAULT_PROFILE, load_profile
+from .acquisition.wire.keys import recorder_token
 from .excite import run_excitation
 from .experiment import CASES, LAWS
 from .identification.excitation import design_excitation
@@ -47,6 +49,7 @@ from .model.files import write_atomic
 from .paper import FIG5_WAYPOINTS
 from .planner import DEFAULT_OMEGA, make_backend
 from .planner_node import NodeRun, NodeSettings, PlannerNode
+from .processes import Child, Launcher, free_port
 from .table2 import table_from_recording
 from .table2_record import Table2, write_table2
 from .waypoints import random_waypoints
@@ -58,8 +61,8 @@ DEFAULT_LOOKAHEAD_S = 10.0
 """drive time kept queued behind the running move [s]: at --speed 0 the bridge runs ~11× real time on
 two cores shared by three processes, and a planner that loses the CPU for 150 ms (seen on a loaded
 machine) finds the queue 1.6 s of drive time shorter"""
-_RECORDER_SETTLE_S = 1.0
-_STOP_TIMEOUT_S = 30.0
+READY_TIMEOUT_S = 60.0
+"""how long the bridge, or a recorder, may take to start (and the recorder to join) [s]"""
 
 
 @dataclass(frozen=True)
@@ -91,49 +94,6 @@ class DemoReport:
     phases_s: dict[str, float] = field(default_factory=dict)
 
 
-class _Children:
-    """The bridge and recorder processes: started with the demo's Zenoh endpoint, stopped with SIGINT
-    (a clean finish: the recorder writes its summary and footer), killed only if they hang."""
-
-    def __init__(self, out: Path) -> None:
-        self.out = out
-        self.procs: dict[str, subprocess.Popen] = {}
-
-    def start(self, name: str, *args: str) -> subprocess.Popen:
-        log = open(self.out / f"{name}.log", "w")  # noqa: SIM115 - closed with the process
-        cmd = [sys.executable, "-m", "axisflow", *args]
-        env = {**os.environ, "CI": os.environ.get("CI", "1"), "RUST_LOG": os.environ.get("RUST_LOG", "error")}
-        # a new process group: a Ctrl-C of the terminal reaches the demo, which stops them in order
-        proc = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT, env=env, start_new_session=True)
-        proc.log = log  # type: ignore[attr-defined]
-        self.procs[name] = proc
-        return proc
-
-    def stop(self, name: str) -> int:
-        proc = self.procs.pop(name, None)
-        if proc is None:
-            return 0
-        if proc.poll() is None:
-            proc.send_signal(signal.SIGINT)
-            try:
-                proc.wait(_STOP_TIMEOUT_S)
-            except subprocess.TimeoutExpired:
-                proc.kill()
-                proc.wait()
-        proc.log.close()  # type: ignore[attr-defined]
-        return proc.returncode
-
-    def stop_all(self) -> None:
-        for name in list(self.procs)[::-1]:
-            self.stop(name)
-
-
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 def run_demo(
     settings: DemoSettings, progress: Callable[[str], None], stop: threading.Event | None = None
 ) -> DemoReport:
@@ -146,9 +106,8 @@ def run_demo(
     plan = design_excitation(nominal)
     report = DemoReport(out)
     t_start = time.monotonic()
-    port = _free_port()
-    endpoint = f"tcp/127.0.0.1:{port}"
-    children = _Children(out)
+    endpoint = f"tcp/127.0.0.1:{free_port()}"
+    children = Launcher(out / "logs")
     params_args = ["--params", settings.params_path] if settings.params_path else []
     plant = load_profile(settings.plant_profile, nominal)
     report.plant = plant.describe()
@@ -161,24 +120,26 @@ def run_demo(
         bridge = children.start(
             "bridge", "bridge", "--drive", settings.drive, "--plant-profile", settings.plant_profile,
             "--speed", f"{settings.speed:g}", "--listen", endpoint, *params_args,
+            ready=True,
         )  # fmt: skip
+        children.wait_ready(bridge, READY_TIMEOUT_S)
         with open_session(ZenohOptions(connect=(endpoint,))) as session:
             keys = AxisKeys()
             # 1. excitation
             t0 = time.monotonic()
-            with _recording(children, out / "excitation.mcap", endpoint, progress):
+            with _recording(children, session, out / "excitation.mcap", endpoint):
                 progress(f"excitation: {len(plan.bursts)} bursts, {plan.duration_s:.0f} s of axis time")
-                done = run_excitation(session, keys, nominal, plan)
+                done = run_excitation(session, keys, nominal, plan, stop=stop)
                 progress(f"  {done.format()}")
             report.phases_s["excitation"] = time.monotonic() - t0
-            _check_alive(bridge)
+            _check_stop(stop)
+            children.check_alive(bridge)
             # 2. identification
             t0 = time.monotonic()
             from .identification.refit import IdentifySettings  # CasADi: loaded when the demo fits
             from .identify import identify_to
 
-            # the excitation's moves only: what was recorded around them is of no use, and a sample
-            # lost there (see acquisition.bus.session.settle) would stop the refit
+            # the excitation's moves only: what was recorded around them is of no use
             _ident, refit_report = identify_to(
                 out / "refit", [out / "excitation.mcap"], nominal, IdentifySettings(window=done.window())
             )
@@ -186,16 +147,18 @@ def run_demo(
             refit = load_params(out / "refit" / "params.toml")
             report.phases_s["identification"] = time.monotonic() - t0
             progress(_refit_line(refit_report))
+            _check_stop(stop)
             # 3., 4. the experiment with each parameter set
             for label, params in (("nominal", nominal), ("refit", refit)):
                 t0 = time.monotonic()
                 path = out / f"experiment-{label}.mcap"
-                with _recording(children, path, endpoint, progress):
+                with _recording(children, session, path, endpoint):
                     progress(f"experiment, {label} parameters: {len(waypoints)} way points, 2 cases × 3 laws")
                     _run_experiment(session, keys, params, label, waypoints, settings, progress, stop)
                 report.tables[label] = _table(out, path, label)
                 report.phases_s[f"experiment-{label}"] = time.monotonic() - t0
-        children.stop("bridge")
+                _check_stop(stop)
+        children.stop(bridge)
         t0 = time.monotonic()
         from .viz.figures import write_figures  # rerun and matplotlib: loaded when the demo draws
         from .viz.session import write_session_rrd
@@ -207,42 +170,43 @@ def run_demo(
         report.phases_s["pictures"] = time.monotonic() - t0
         progress(f"rerun recording {out / 'session.rrd'}, figures in {out / 'figures'}")
     finally:
-        children.stop_all()
+        children.close()
     report.wall_time_s = time.monotonic() - t_start
     write_atomic(out / "demo.json", json.dumps(_summary_json(report, settings), indent=1) + "\n")
     return report
 
 
-class _recording:  # noqa: N801 - a context manager, read as a phrase
-    """The recorder process for one phase: started, waited for, stopped cleanly at the end."""
+def _check_stop(stop: threading.Event) -> None:
+    """Between phases: a stop (SIGINT/SIGTERM) ends the demo here."""
+    if stop.is_set():
+        raise KeyboardInterrupt
 
-    def __init__(
-        self, children: _Children, path: Path, endpoint: str, progress: Callable[[str], None]
-    ) -> None:
-        self.children, self.path, self.endpoint, self.progress = children, path, endpoint, progress
+
+class _recording:  # noqa: N801 - a context manager, read as a phrase
+    """The recorder process for one phase: started, ready (joined) before the phase begins, stopped
+    cleanly at its end (its stop proves nothing was still on the way: acquisition.bus.readiness)."""
+
+    def __init__(self, children: Launcher, session: object, path: Path, endpoint: str) -> None:
+        self.children, self.session, self.path, self.endpoint = children, session, path, endpoint
+        self.proc: Child | None = None
 
     def __enter__(self) -> None:
-        proc = self.children.start(
-            f"recorder-{self.path.stem}", "record", "-o", str(self.path), "--connect", self.endpoint
-        )
-        deadline = time.monotonic() + 20.0
-        while not (self.path.exists() and self.path.stat().st_size > 0):
-            _check_alive(proc)
-            if time.monotonic() > deadline:
-                raise AxisflowError(f"the recorder did not start {self.path} within 20 s")
-            time.sleep(0.05)
-        time.sleep(_RECORDER_SETTLE_S)  # its subscription reaches the bridge
+        args = ("record", "-o", str(self.path), "--connect", self.endpoint)
+        self.proc = self.children.start(f"recorder-{self.path.stem}", *args, ready=True)
+        self.children.wait_ready(self.proc, READY_TIMEOUT_S)
+        # this session, which sends the moves, knows the recorder's subscriber once it sees its token
+        token = recorder_token(socket.gethostname(), self.proc.pid)
+        if not wait_for_token(self.session, token, READY_TIMEOUT_S):  # type: ignore[arg-type]
+            raise AxisflowError(f"the recorder of {self.path} was ready, but its token {token} never came")
 
     def __exit__(self, *_exc: object) -> None:
-        time.sleep(0.2)  # the last samples reach the recorder
-        rc = self.children.stop(f"recorder-{self.path.stem}")
-        if rc not in (0, None):
-            raise AxisflowError(f"the recorder of {self.path} exited with {rc}; see {self.path.parent}")
-
-
-def _check_alive(proc: subprocess.Popen) -> None:
-    if proc.poll() is not None:
-        raise AxisflowError(f"{' '.join(proc.args[2:4])} exited early with code {proc.returncode}")  # type: ignore[index]
+        assert self.proc is not None
+        end = self.children.stop(self.proc)
+        if end.returncode != 0:
+            raise AxisflowError(
+                f"the recorder of {self.path} exited with {end.returncode}; see {end.name}.err in "
+                f"{self.children.logs}"
+            )
 
 
 def _run_experiment(
@@ -259,12 +223,10 @@ def _run_experiment(
     node_settings = NodeSettings(keys, runs, DEFAULT_OMEGA, settings.lookahead, settings.lookahead_s, label)
     backend = make_backend(settings.solver)
 
-    def run_lines(line: str) -> None:  # the node's per-run summaries, not its every-10-moves lines
-        if not line.startswith("  "):
-            progress("  " + line)
-
-    with PlannerNode(session, node_settings, params, backend, run_lines, stop) as node:  # type: ignore[arg-type]
-        node.run(waypoints)  # type: ignore[arg-type]
+    # the node's progress (every tenth move), then each run's summary
+    with PlannerNode(session, node_settings, params, backend, progress, stop) as node:  # type: ignore[arg-type]
+        for report in node.run(waypoints):  # type: ignore[arg-type]
+            progress("  " + report.summary())
 
 
 def _table(out: Path, path: Path, label: str) -> Table2:

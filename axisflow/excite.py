@@ -11,6 +11,7 @@ with ``axisflow record`` and refit with ``axisflow identify``.
 
 from __future__ import annotations
 
+import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -29,6 +30,8 @@ _SLACK_S = 60.0
 DRIVE_INFO_WAIT_S = 2.0
 """how long the run waits at its end for the bridge's DriveInfo, if none has come yet [s]"""
 _SLOWEST_SPEED = 0.05
+_STOP_SLICE_S = 0.1
+"""how often waiting for a move looks at the stop event [s]"""
 """the waits assume the bridge runs at least this fraction of real time"""
 
 
@@ -84,9 +87,11 @@ def run_excitation(
     params: AxisParams,
     plan: ExcitationPlan,
     progress: Callable[[str], None] | None = None,
+    stop: threading.Event | None = None,
 ) -> ExcitationReport:
     """Run ``plan`` on the axis of ``keys`` (see the module docstring); ``progress`` gets one line per
-    finished move."""
+    finished move. ``stop`` set (SIGINT/SIGTERM) ends the wait with a :class:`KeyboardInterrupt`;
+    closing the sender then drops the moves that had not started."""
     say = progress or (lambda _line: None)
     report = ExcitationReport(keys.axis, plan.center_m)
     t0 = time.monotonic()
@@ -106,7 +111,7 @@ def run_excitation(
         for k, cmd in enumerate(report.moves, start=1):
             # queued moves wait for the ones before them: the time-out covers all of those
             wait_s = _SLACK_S + sum(m.duration_s for m in report.moves[:k]) / _SLOWEST_SPEED
-            status = sender.wait_status(cmd.move_id, {MoveState.COMPLETED}, wait_s)
+            status = _wait_completed(sender, cmd.move_id, wait_s, stop)
             if status is None:
                 raise AxisflowError(
                     f"move {cmd.move_id} of the excitation did not complete within {wait_s:.0f} s"
@@ -120,3 +125,16 @@ def run_excitation(
         report.drive = info.describe() if info is not None else None
     report.wall_time_s = time.monotonic() - t0
     return report
+
+
+def _wait_completed(
+    sender: MoveSender, move_id: int, timeout_s: float, stop: threading.Event | None
+) -> MoveStatus | None:
+    """:meth:`MoveSender.wait_status` for COMPLETED, in slices that look at ``stop``."""
+    deadline = time.monotonic() + timeout_s
+    while True:
+        if stop is not None and stop.is_set():
+            raise KeyboardInterrupt
+        status = sender.wait_status(move_id, {MoveState.COMPLETED}, min(_STOP_SLICE_S, timeout_s))
+        if status is not None or time.monotonic() >= deadline:
+            return status

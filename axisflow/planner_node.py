@@ -187,7 +187,6 @@ class PlannerNode:
             self._check_stop()
             report = self._run_one(run, waypoints_m, x_now)
             reports.append(report)
-            self._say(report.summary())
             x_now = float(waypoints_m[-1])
         return reports
 

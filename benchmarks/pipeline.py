@@ -20,11 +20,7 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import signal
-import socket
 import struct
-import subprocess
 import sys
 import tempfile
 import time
@@ -33,12 +29,10 @@ from pathlib import Path
 import numpy as np
 from axisflow.model import EXECUTION_RATE_HZ
 
-CLI = [sys.executable, "-c", "import sys; from axisflow.cli import main; sys.exit(main())"]
-PUBLISHER = [
-    sys.executable,
-    "-c",
-    "import sys; from axisflow.benchmarks.pipeline import publisher_main; publisher_main()",
-]
+from axisflow.processes import Launcher, free_port
+
+PUBLISHER_ENTRY = "axisflow.benchmarks.pipeline:publisher_main"
+"""the publisher process: ``PORT AXES SECONDS SPEED``"""
 DEFAULT_AXES = "8,16,32,48,64,96,128,192,256"
 KEEP_UP_P99_US = 100_000.0
 """a step passes if nothing is lost *and* the recorder keeps up in real time: p99 stamp→write ≤ 100 ms
@@ -138,12 +132,6 @@ def publisher_main() -> None:
 # --------------------------------------------------------------------------- helpers
 
 
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 def _rss_kb(pid: int, field: str = "VmRSS") -> int:
     try:
         for line in Path(f"/proc/{pid}/status").read_text().splitlines():
@@ -157,10 +145,10 @@ def _rss_kb(pid: int, field: str = "VmRSS") -> int:
 def _analyse(path: Path) -> dict[str, object]:
     """Counts, gaps and stamp→write latency of a benchmark recording."""
     from axisflow.acquisition import iter_recording
+    from axisflow.acquisition.wire.sequence import SequenceTracker
 
     counts: dict[str, int] = {}
-    gaps = 0
-    last: dict[str, int] = {}
+    sequences: dict[str, SequenceTracker] = {}
     lat: list[int] = []
     first_log, last_log = None, 0
     for rec in iter_recording(path):
@@ -168,17 +156,15 @@ def _analyse(path: Path) -> dict[str, object]:
         first_log = m.log_time if first_log is None else min(first_log, m.log_time)
         last_log = max(last_log, m.log_time)
         counts[topic] = counts.get(topic, 0) + 1
-        prev = last.get(topic)
-        if prev is not None and m.sequence != prev + 1:
-            gaps += m.sequence - prev - 1
-        last[topic] = m.sequence
+        # one publisher per topic here; MCAP keeps its sequence numbers but not its id
+        sequences.setdefault(topic, SequenceTracker()).add(b"", m.sequence)
         sec, nsec = _STAMP.unpack_from(m.data, 4)
         lat.append(m.log_time - (sec * 1_000_000_000 + nsec))
     arr = np.array(lat, dtype=np.int64) if lat else np.zeros(1, dtype=np.int64)
     return {
         "recorded": sum(counts.values()),
         "topics": len(counts),
-        "gaps": gaps,
+        "gaps": sum(t.missed for t in sequences.values()),
         "write_span_s": (last_log - first_log) * 1e-9 if first_log is not None else 0.0,
         "latency_p50_us": float(np.percentile(arr, 50)) / 1e3,
         "latency_p99_us": float(np.percentile(arr, 99)) / 1e3,
@@ -189,43 +175,25 @@ def _run_step(tmp: Path, n_axes: int, seconds: float, speed: float = 1.0, sample
     """One recorder + one publisher process; returns the step's figures."""
     port = free_port()
     out = tmp / f"bench_{n_axes}_{speed:g}_{time.monotonic_ns()}.mcap"
-    env = {**os.environ, "RUST_LOG": "error"}
-    rec = subprocess.Popen(
-        [*CLI, "record", "-o", str(out), "--listen", f"tcp/127.0.0.1:{port}", "--json"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        env=env,
-    )
     rss_trace: list[tuple[float, int]] = []
-    try:
-        while not out.exists():
-            if rec.poll() is not None:
-                raise RuntimeError(f"the recorder exited before recording: {rec.communicate()[1][-2000:]}")
-            time.sleep(0.02)
-        pub = subprocess.Popen(
-            [*PUBLISHER, str(port), str(n_axes), str(seconds), str(speed)],
-            stdout=subprocess.PIPE,
-            stderr=subprocess.PIPE,
-            text=True,
-            env=env,
+    with Launcher(tmp / "logs") as launcher:
+        rec = launcher.start(
+            "recorder", "record", "-o", str(out), "--listen", f"tcp/127.0.0.1:{port}", "--json", ready=True
+        )
+        launcher.wait_ready(rec, 60.0)  # its subscriber has joined
+        pub = launcher.start(
+            "publisher", str(port), str(n_axes), str(seconds), str(speed), entry=PUBLISHER_ENTRY
         )
         t0 = time.monotonic()
         while pub.poll() is None:
             if sample_rss:
                 rss_trace.append((time.monotonic() - t0, _rss_kb(rec.pid)))
-            time.sleep(0.25)
-        pub_out, pub_err = pub.communicate()
-        time.sleep(0.5)  # let the recorder drain its queue
+            time.sleep(0.25)  # the sampling period of the RSS trace
+        published = launcher.wait(pub)
         peak_kb = _rss_kb(rec.pid, "VmHWM")
-    finally:
-        rec.send_signal(signal.SIGINT)
-        try:
-            rec_out, _ = rec.communicate(timeout=60)
-        except subprocess.TimeoutExpired:
-            rec.kill()
-            rec_out, _ = rec.communicate()
-    if pub.returncode != 0 or not pub_out.strip():
+        recorded = launcher.stop(rec, 60.0)  # its stop proves the publisher's last samples arrived
+    pub_out, pub_err, rec_out = published.stdout, published.stderr, recorded.stdout
+    if published.returncode != 0 or not pub_out.strip():
         raise RuntimeError(f"publisher failed: {pub_err[-2000:]}")
     p = json.loads(pub_out.strip().splitlines()[-1])
     if not p["matched"]:

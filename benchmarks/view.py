@@ -23,8 +23,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import signal
-import socket
 import subprocess
 import sys
 import tempfile
@@ -32,14 +30,16 @@ import time
 from pathlib import Path
 
 from ..acquisition.logs.synthetic_log import SyntheticLogSpec, write_synthetic_log
-from .pipeline import axis_counts, free_port, play
+from ..processes import Launcher, free_port
+from .pipeline import axis_counts, play
 
 GOAL_HOUR_S = 10.0
 GOAL_LIVE_P99_MS = 100.0
 GOAL_LIVE_AXES = 8
 """the live goal holds at this many axes; other counts in ``--axes`` are measured, not judged"""
 CLI = [sys.executable, "-c", "import sys; from axisflow.cli import main; sys.exit(main())"]
-PUBLISHER = [sys.executable, "-c", "from axisflow.benchmarks.view import publisher_main; publisher_main()"]
+PUBLISHER_ENTRY = "axisflow.benchmarks.view:publisher_main"
+"""the publisher process: ``PORT AXES SECONDS``"""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -199,38 +199,29 @@ def _log_steps(args: argparse.Namespace, tmp: Path, result: dict) -> None:
 def _live_step(args: argparse.Namespace, tmp: Path, n_axes: int) -> dict:
     port = free_port()
     rrd = tmp / f"live_{n_axes}.rrd"
-    env = {**os.environ, "CI": "1", "RUST_LOG": "error"}
-    view = subprocess.Popen(
-        [*CLI, "view", "--live", "-o", str(rrd), "--listen", f"tcp/127.0.0.1:{port}", "--json"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        env=env,
-    )
-    try:
-        deadline = time.monotonic() + 30.0
-        while True:  # the view's session listens
-            with socket.socket() as s:
-                if s.connect_ex(("127.0.0.1", port)) == 0:
-                    break
-            if view.poll() is not None or time.monotonic() > deadline:
-                raise RuntimeError(f"the live view did not start: {view.communicate()[1][-2000:]}")
-            time.sleep(0.05)
-        pub = subprocess.run(
-            [*PUBLISHER, str(port), str(n_axes), str(args.seconds)],
-            capture_output=True,
-            text=True,
-            env=env,
-            timeout=args.seconds + 60,
+    with Launcher(tmp / "logs") as launcher:
+        view = launcher.start(
+            "view",
+            "view",
+            "--live",
+            "-o",
+            str(rrd),
+            "--listen",
+            f"tcp/127.0.0.1:{port}",
+            "--json",
+            ready=True,
+        )
+        launcher.wait_ready(view, 60.0)  # its subscriber has joined
+        pub = launcher.wait(
+            launcher.start("publisher", str(port), str(n_axes), str(args.seconds), entry=PUBLISHER_ENTRY),
+            args.seconds + 60,
         )
         if pub.returncode != 0:
             raise RuntimeError(f"the publisher failed: {pub.stderr[-2000:]}")
-        time.sleep(1.0)  # the last batches reach rerun
         cpu_s = _cpu_seconds(view.pid)
-    finally:
-        view.send_signal(signal.SIGINT)
-        out, err = view.communicate(timeout=60)
-    if view.returncode != 0:
+        viewed = launcher.stop(view, 60.0)  # its stop proves the publisher's last samples arrived
+    out, err = viewed.stdout, viewed.stderr
+    if viewed.returncode != 0:
         raise RuntimeError(f"the live view failed: {err[-2000:]}")
     published = json.loads(pub.stdout.strip().splitlines()[-1])
     report = json.loads(out)

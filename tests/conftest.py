@@ -1,80 +1,73 @@
-"""Fixtures for every test package: free loopback ports, `axisflow` subprocesses, MCAP reading."""
+"""Fixtures for every test package: `axisflow` processes (through axisflow's own launcher), free
+loopback ports, MCAP reading, and waiting on facts."""
 
 from __future__ import annotations
 
-import os
-import socket
-import subprocess
-import sys
-import time
 from pathlib import Path
-from typing import ClassVar
 
 import pytest
+from axisflow.acquisition import RecordingError, iter_recording
 from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
 
-CLI = [sys.executable, "-c", "import sys; from axisflow.cli import main; sys.exit(main())"]
-ENV = {**os.environ, "CI": "1", "RUST_LOG": "error"}
-
-
-def free_port() -> int:
-    """A TCP port on 127.0.0.1 that was free a moment ago."""
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
+from axisflow.processes import Child, Exited, Launcher, free_port, wait_until
 
 
 class Cli:
-    """``axisflow`` subprocesses and MCAP reading (a fixture, so tests import nothing from here)."""
+    """``axisflow`` processes of one test, started by a :class:`~axisflow.processes.Launcher` (their
+    output goes to files; they end with the test process, however it ends), and MCAP reading."""
+
+    def __init__(self, launcher: Launcher) -> None:
+        self.launcher = launcher
 
     @staticmethod
     def free_port() -> int:
         return free_port()
 
-    started: ClassVar[list[subprocess.Popen]] = []
-    """every process of :meth:`start`; the autouse fixture kills those still running after a test"""
+    def start(self, *args: str, ready: bool = False) -> Child:
+        """Start ``axisflow ARGS`` in the background (stopped after the test if still running);
+        ``ready``: it says when it is ready (:meth:`wait_ready`: the recorder once it has joined, the
+        bridge once it holds its token)."""
+        return self.launcher.start(args[0] if args else "axisflow", *args, ready=ready)
 
-    @staticmethod
-    def start(*args: str) -> subprocess.Popen:
-        """Start ``axisflow ARGS`` in the background (text output captured; killed after the test)."""
-        proc = subprocess.Popen(
-            [*CLI, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV
-        )
-        Cli.started.append(proc)
-        return proc
-
-    @staticmethod
-    def kill_leftovers() -> None:
-        """Kill and reap every started process still running (a failed test did not stop it)."""
-        for proc in Cli.started:
-            if proc.poll() is None:
-                proc.kill()
-                proc.communicate()
-        Cli.started.clear()
-
-    @staticmethod
-    def run(*args: str, timeout: float = 120.0) -> subprocess.CompletedProcess:
-        """Run ``axisflow ARGS``; raises TimeoutExpired (fails the test) if it does not exit in time."""
-        return subprocess.run([*CLI, *args], capture_output=True, text=True, timeout=timeout, env=ENV)
-
-    @staticmethod
-    def finish(proc: subprocess.Popen, timeout: float = 60.0) -> tuple[str, str]:
-        """Wait for a started process; fails the test (after killing it) if it hangs."""
+    def wait_ready(self, proc: Child, timeout: float = 30.0) -> None:
+        """Return once a process started with ``ready=True`` is ready; fail the test if it exits or
+        stays silent."""
         try:
-            return proc.communicate(timeout=timeout)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            out, err = proc.communicate()
-            pytest.fail(f"process did not exit within {timeout} s\nstdout:\n{out}\nstderr:\n{err}")
+            self.launcher.wait_ready(proc, timeout)
+        except Exception as exc:
+            pytest.fail(str(exc))
+
+    def run(self, *args: str, timeout: float = 120.0) -> Exited:
+        """Run ``axisflow ARGS`` to its end; fails the test if it does not exit in time."""
+        return self.finish_exited(self.start(*args), timeout)
+
+    def finish(self, proc: Child, timeout: float = 60.0) -> tuple[str, str]:
+        """Wait for a started process: its (stdout, stderr); fails the test (after killing it) if it
+        hangs."""
+        end = self.finish_exited(proc, timeout)
+        return end.stdout, end.stderr
+
+    def finish_exited(self, proc: Child, timeout: float = 60.0) -> Exited:
+        end = self.launcher.wait(proc, timeout)
+        if end.timed_out:
+            output = f"stdout:\n{end.stdout}\nstderr:\n{end.stderr}"
+            pytest.fail(f"{proc.command} did not exit within {timeout} s\n{output}")
+        return end
 
     @staticmethod
     def wait_for_file(path: Path, timeout: float = 10.0) -> None:
-        deadline = time.monotonic() + timeout
-        while not (path.exists() and path.stat().st_size > 0):
-            if time.monotonic() > deadline:
-                pytest.fail(f"{path} did not appear within {timeout} s")
-            time.sleep(0.05)
+        if not wait_until(lambda: path.exists() and path.stat().st_size > 0, timeout):
+            pytest.fail(f"{path} did not appear within {timeout} s")
+
+    @staticmethod
+    def on_disk(path: Path, topic: str | None = None) -> int:
+        """Messages (of ``topic``) flushed to a recording so far, read as a stream (0 before the file
+        or its header is written)."""
+        try:
+            return sum(1 for r in iter_recording(path) if topic is None or r.channel.topic == topic)
+        except RecordingError:
+            return 0
 
     @staticmethod
     def decoded(path: Path, topic: str) -> list:
@@ -85,15 +78,22 @@ class Cli:
 
 
 @pytest.fixture(scope="session")
-def cli() -> Cli:
-    return Cli()
+def _launcher(tmp_path_factory):
+    with Launcher(tmp_path_factory.mktemp("processes")) as launcher:
+        yield launcher
+
+
+@pytest.fixture(scope="session")
+def cli(_launcher) -> Cli:
+    return Cli(_launcher)
 
 
 @pytest.fixture(autouse=True)
-def _no_leftover_processes():
-    """After each test (pass or fail), no process started through ``cli.start`` keeps running."""
+def _no_leftover_processes(_launcher):
+    """After each test (pass or fail), no process started through ``cli.start`` keeps running: SIGINT,
+    then a kill after 5 s."""
     yield
-    Cli.kill_leftovers()
+    _launcher.stop_running(timeout_s=5.0)
 
 
 @pytest.fixture
@@ -148,3 +148,15 @@ class ChunkDamage:
 @pytest.fixture(scope="session")
 def damage() -> type[ChunkDamage]:
     return ChunkDamage
+
+
+@pytest.fixture
+def eventually():
+    """``eventually(predicate, timeout_s, what)``: poll ``predicate`` until it holds; fail the test
+    naming ``what`` if it does not within ``timeout_s``."""
+
+    def wait(predicate, timeout_s: float = 10.0, what: str = "the condition") -> None:
+        if not wait_until(predicate, timeout_s):
+            pytest.fail(f"{what} did not hold within {timeout_s:g} s")
+
+    return wait

@@ -20,6 +20,7 @@ FOLDERS = {
     "benchmarks": "benchmarks",
     "axisflow/cli": "cli",
     "axisflow/security": "top",
+    "axisflow/faults": "top",
     "axisflow": "top",
 }
 # what each layer may import (besides itself); the README's layout table says the same

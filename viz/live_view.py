@@ -14,9 +14,10 @@ layout (the blueprint is sent again). Per key and publisher, gaps in the attachm
 numbers count the messages lost on the way; the latency is measured from each sample's header stamp
 (drive time) to the moment its batch was handed to rerun.
 
-The loop stops when ``stop`` is set (SIGINT/SIGTERM through
-:func:`~axisflow.acquisition.shutdown.stop_on_signals`) or after ``duration_s``, after draining what
-the channel holds; the subscriber is undeclared before the caller closes the session.
+The subscriber joins first (its routes proven: :mod:`~axisflow.acquisition.bus.readiness`). The loop
+stops when ``stop`` is set (SIGINT/SIGTERM through :func:`axisflow.processes.stop_on_signals`) or after
+``duration_s``, after one more hello and draining what the channel holds; the subscriber is undeclared
+before the caller closes the session.
 """
 
 from __future__ import annotations
@@ -31,12 +32,14 @@ from typing import Any, TypeVar
 import numpy as np
 import zenoh
 
-from ..acquisition.bus.session import check_key_expression, settle
+from ..acquisition.bus.readiness import JoinedSubscriber
+from ..acquisition.bus.session import check_key_expression
 from ..acquisition.errors import WireError
 from ..acquisition.histogram import DurationHistogram, DurationStats
 from ..acquisition.wire.attachment import unpack_attachment
 from ..acquisition.wire.move_status import MoveStatus
 from ..acquisition.wire.plan_record import PlanRecord
+from ..acquisition.wire.sequence import SequenceTracker
 from ..model import AxisParams
 from .blueprint import view_blueprint
 from .entities import AxisEntities, axis_label
@@ -59,11 +62,18 @@ _Record = TypeVar("_Record", MoveStatus, PlanRecord)
 
 @dataclass
 class KeyCount:
-    """Messages of one key: received, lost (sequence gaps) and undecodable."""
+    """Messages of one key: received, lost on the way (sequence gaps) and undecodable."""
 
     received: int = 0
-    missed: int = 0
     undecodable: int = 0
+    sequences: SequenceTracker = field(default_factory=SequenceTracker)
+
+    @property
+    def missed(self) -> int:
+        return self.sequences.missed
+
+    def to_dict(self) -> dict[str, int]:
+        return {"received": self.received, "missed": self.missed, "undecodable": self.undecodable}
 
 
 @dataclass
@@ -96,7 +106,7 @@ class LiveReport:
             "missed": self.missed,
             "ignored": self.ignored,
             "batches": self.batches,
-            "per_key": {k: vars(c) for k, c in sorted(self.counts.items())},
+            "per_key": {k: c.to_dict() for k, c in sorted(self.counts.items())},
             "latency": self.latency.to_dict() if self.latency and self.latency.count else None,
             "stale_stamps": self.stale_stamps,
         }
@@ -152,26 +162,35 @@ class LiveView:
         self.queue_capacity = queue_capacity
         self.report = LiveReport(keys)
         self.ready = threading.Event()
-        """set once the subscriber is declared"""
+        """set once the subscriber has joined: nothing published from then on is missed"""
         self._scenes: dict[str, AxisScene] = {}
         self._pending: dict[tuple[str, str, str], list[bytes]] = defaultdict(list)
         self._routes: dict[str, tuple[str, str] | None] = {}
-        self._last_seq: dict[tuple[str, bytes], int] = {}
         self._latency = DurationHistogram(limit_us=1_000_000)
 
     def run(
-        self, session: zenoh.Session, stop: threading.Event, duration_s: float | None = None
+        self,
+        session: zenoh.Session,
+        stop: threading.Event,
+        duration_s: float | None = None,
+        on_ready: Callable[[], None] | None = None,
     ) -> LiveReport:
-        """Receive and stream until ``stop`` is set or ``duration_s`` has passed."""
-        settle(session)  # a subscriber declared on a new session may lose samples (bus.session.settle)
+        """Receive and stream until ``stop`` is set or ``duration_s`` has passed (counted from the moment
+        the subscriber has joined: :class:`~axisflow.acquisition.bus.readiness.JoinedSubscriber`);
+        ``on_ready`` is called then."""
         t0 = time.monotonic()
-        deadline = None if duration_s is None else t0 + duration_s
-        next_flush = t0 + self.batch_interval_s
+        handler = lambda: zenoh.handlers.FifoChannel(self.queue_capacity)  # noqa: E731
         try:
-            with session.declare_subscriber(
-                self.keys, zenoh.handlers.FifoChannel(self.queue_capacity)
-            ) as sub:
+            with JoinedSubscriber(session, self.keys, handler, stop=stop) as joined:
+                sub = joined.subscriber
+                if sub is None:  # stopped while joining
+                    return self.report
                 self.ready.set()
+                if on_ready is not None:
+                    on_ready()
+                started = time.monotonic()
+                deadline = None if duration_s is None else started + duration_s
+                next_flush = started + self.batch_interval_s
                 while True:
                     got = self._drain(sub)
                     now = time.monotonic()
@@ -179,8 +198,12 @@ class LiveView:
                         self._flush()
                         next_flush = now + self.batch_interval_s
                     if stop.is_set() or (deadline is not None and now >= deadline):
-                        while self._drain(sub):
-                            pass
+                        # one hello, draining meanwhile; then what the channel holds of the time
+                        # before it (at most its capacity: a fast publisher refills it as it drains)
+                        joined.flush(while_waiting=lambda: self._drain(sub))
+                        for _ in range(self.queue_capacity // _DRAIN_BATCH + 1):
+                            if not self._drain(sub):
+                                break
                         break
                     if not got:
                         time.sleep(_IDLE_SLEEP_S)
@@ -218,11 +241,7 @@ class LiveView:
         att = sample.attachment
         parsed = unpack_attachment(att.to_bytes()) if att is not None else None
         if parsed is not None:
-            seq, _stamp, gid = parsed
-            last = self._last_seq.get((key, gid))
-            if last is not None and seq > last + 1:
-                count.missed += seq - last - 1
-            self._last_seq[(key, gid)] = seq
+            count.sequences.add(parsed[2], parsed[0])
         self._pending[(route[0], route[1], key)].append(sample.payload.to_bytes())
 
     def _scene(self, label: str) -> AxisScene:

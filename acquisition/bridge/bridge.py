@@ -1,7 +1,10 @@
 """The drive bridge: a 1 kHz loop between a :class:`~axisflow.acquisition.drives.drive.Drive` and Zenoh.
 
 While it runs, the bridge holds the liveliness token ``<prefix>/<axis>/alive`` so senders can find it,
-and watches the move senders' tokens ``<prefix>/<axis>/sender/*``. Moves arriving on
+and watches the move senders' tokens ``<prefix>/<axis>/sender/*``. It declares the token last, after its
+subscribers and publishers: a session that sees the token knows the bridge's move subscriber too. A
+bridge that finds the token of another one on its axis refuses to start (:class:`AxisTakenError`,
+naming where the other runs). Moves arriving on
 ``<prefix>/<axis>/trajectory`` are decoded and validated off the loop
 (:class:`~axisflow.acquisition.bridge.move_intake.MoveIntake`). Each tick k (drive time ``t0 + k·1 ms``),
 :meth:`Bridge.step`
@@ -33,12 +36,13 @@ heard from it), a setpoint only when one reaches the drive.
 :meth:`Bridge.run` paces the steps: at ``speed`` > 0 tick k starts at ``start + k·1 ms / speed`` on
 the monotonic clock (a late tick runs at once; the schedule does not drift); at ``speed`` 0 ticks run
 back to back and telemetry publishers block when the consumers are full ("as fast as the consumers
-allow"). The stamps are drive time and always advance by exactly 1 ms; the first sample is read once
-the publishers are ready (and the subscribers waited for), so a simulated drive's clock starts with
-the loop. The periods between tick starts are kept in a histogram; their deviation from the nominal
-period is the jitter reported on exit. Tests drive :meth:`Bridge.step` directly. :func:`run_bridges`
-paces several bridges in one loop (one per drive of a bus, each on its own keys), with a hook after
-each tick (the bus's SYNC).
+allow"); while nobody subscribes to its state, setpoint or event, it waits (Zenoh's matching
+listeners say when someone does) instead of running ticks nobody receives. The stamps are drive time
+and always advance by exactly 1 ms; the first sample is read once the publishers are ready (and the
+subscribers waited for), so a simulated drive's clock starts with the loop. The periods between tick
+starts are kept in a histogram; their deviation from the nominal period is the jitter reported on
+exit. Tests drive :meth:`Bridge.step` directly. :func:`run_bridges` paces several bridges in one loop
+(one per drive of a bus, each on its own keys), with a hook after each tick (the bus's SYNC).
 """
 
 from __future__ import annotations
@@ -56,9 +60,10 @@ from functools import partial
 import zenoh
 
 from ...model import EXECUTION_PERIOD_NS, AxisParams, stop_profile, ticks_to_seconds
-from ..bus.publisher import SequencedPublisher, Traffic, wait_for_subscribers
+from ..bus.publisher import SequencedPublisher, Traffic, wait_for_subscribers, watch_consumers
+from ..bus.readiness import MatchWatch, NotReadyError, say_hello
 from ..drives.drive import STOPPING_EVENTS, Drive, DriveEvent, DriveEventKind
-from ..errors import AcquisitionError, WireError
+from ..errors import AcquisitionError, AxisTakenError, WireError, zenoh_reason
 from ..histogram import DurationHistogram, DurationStats
 from ..wire.attachment import unpack_attachment
 from ..wire.drive_info import DRIVE_INFO_TYPE, DriveInfo
@@ -72,6 +77,10 @@ from .move_queue import DEFAULT_JUMP_TOLERANCE_M, MoveQueue, QueuedMove, validat
 
 log = logging.getLogger(__name__)
 
+AXIS_CHECK_TIMEOUT_S = 2.0
+"""how long a starting bridge asks for another bridge's token on its axis, and for its hello [s]"""
+CONSUMER_POLL_S = 0.1
+"""how often a bridge at speed 0 waiting for a consumer looks at its stop event [s]"""
 SENDER_GRACE_S = 0.5
 """how long [s of wall time] a move may wait for its sender's liveliness token to arrive"""
 MOVES_PER_TICK = 4
@@ -243,11 +252,14 @@ class Bridge:
         """why the drive follows no setpoints (None: it follows); moves are refused meanwhile"""
         self._reset_sender = ""
         """the hex id of whoever asked for the running fault reset (its answer carries it)"""
+        self._consumers: MatchWatch | None = None
+        """at speed 0: whether anyone subscribes to the state, setpoint or event"""
 
     # ---- set-up and tear-down ---------------------------------------------------------------------
     def __enter__(self) -> Bridge:
         keys, session, stack = self.keys, self.session, self._stack
         telemetry = Traffic.BULK if self.config.speed == 0 else Traffic.TELEMETRY
+        self._refuse_a_taken_axis()
         try:
             validate = partial(validate_move, params=self.params, axis=keys.axis)
             self._intake = stack.enter_context(MoveIntake(session, keys.trajectory, validate))
@@ -273,7 +285,11 @@ class Bridge:
                 if self.config.drive is not None
                 else None
             )
-            stack.enter_context(session.liveliness().declare_token(keys.alive))
+            if self.config.speed == 0:
+                self._consumers = stack.enter_context(
+                    watch_consumers([self._state_pub, self._setpoint_pub, self._status_pub])
+                )
+            stack.enter_context(session.liveliness().declare_token(keys.alive))  # last: see the docstring
         except BaseException:
             stack.close()
             raise
@@ -281,13 +297,37 @@ class Bridge:
         if wait > 0 and not wait_for_subscribers([self._state_pub], wait):
             log.warning("no subscriber on %s after %.1f s; starting anyway", keys.state, wait)
         first = self.drive.read()
-        if first is None:
-            stack.close()
-            raise AcquisitionError(f"the drive of axis {keys.axis} gave no first sample: cannot start")
         self._queue = MoveQueue(
             self.params, first.position_m, self.drive.stamp_ns, keys.axis, self.config.jump_tolerance_m
         )
         return self
+
+    def _refuse_a_taken_axis(self) -> None:
+        """An :class:`AxisTakenError` if another bridge holds this axis's token, naming where it runs
+        (from its hello, and the endpoint this session reaches it at)."""
+        keys = self.keys
+        try:
+            replies = list(self.session.liveliness().get(keys.alive, timeout=AXIS_CHECK_TIMEOUT_S))
+        except zenoh.ZError as exc:
+            raise AcquisitionError(
+                f"cannot look for another bridge on {keys.alive}: {zenoh_reason(exc)}"
+            ) from None
+        if not any(r.ok is not None for r in replies):
+            return
+        try:
+            answered = say_hello(self.session, keys.state, AXIS_CHECK_TIMEOUT_S)
+            hellos = answered.hellos if answered is not None else ()
+        except NotReadyError:
+            hellos = ()
+        links = {str(link.zid): link.dst for link in self.session.info.links()}
+        where = "; ".join(
+            f"{h.where}" + (f", reached at {links[h.zid]}" if h.zid in links else "") for h in hellos
+        )
+        raise AxisTakenError(
+            f"axis {keys.axis!r} already has a bridge (it holds {keys.alive}): "
+            + (where or f"where it runs is unknown (no answer to a hello on {keys.state})")
+            + "; stop it first, or give this bridge another --axis"
+        )
 
     def __exit__(self, *_exc: object) -> None:
         try:
@@ -301,6 +341,11 @@ class Bridge:
             self._send_statuses(len(self._outbox))
         finally:
             self._stack.close()
+
+    @property
+    def moves_waiting(self) -> int:
+        """Moves received and validated by the intake that no tick has taken yet."""
+        return self._intake.waiting
 
     # ---- one tick ---------------------------------------------------------------------------------
     def step(self) -> None:
@@ -548,6 +593,19 @@ class Bridge:
         for _ in range(min(limit, len(self._outbox))):
             self._status_pub.put(self._outbox.popleft().encode())
 
+    def wait_for_consumer(self, stop: threading.Event) -> bool:
+        """At speed 0, with nobody subscribed to the state, setpoint or event: wait until someone
+        is (True) or ``stop`` is set (False). At once True while someone is, or at speed > 0."""
+        if self._consumers is None or self._consumers.event.is_set():
+            return True
+        keys = self.keys
+        log.info("nobody subscribes to %s, %s or %s: waiting", keys.state, keys.setpoint, keys.event)
+        while not self._consumers.wait(CONSUMER_POLL_S):
+            if stop.is_set():
+                return False
+        log.info("a consumer subscribed: running")
+        return True
+
     # ---- the paced loop ---------------------------------------------------------------------------
     def run(self, stop: threading.Event | None = None) -> BridgeReport:
         """Step at ``speed`` until ``duration_s`` of drive time has passed or ``stop`` is set."""
@@ -572,6 +630,8 @@ def run_bridges(
     prev = t_start
     done = 0
     while not stop.is_set() and (n_ticks is None or done < n_ticks):
+        if speed == 0 and not all(b.wait_for_consumer(stop) for b in bridges):
+            break
         if speed > 0:
             deadline = t_start + int(done * nominal_ns)
             now = time.monotonic_ns()

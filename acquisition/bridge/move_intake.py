@@ -26,6 +26,7 @@ from ...model.trajectory import MAX_KNOTS
 from ..errors import AcquisitionError
 from ..wire.attachment import unpack_attachment
 from ..wire.messages import MoveCommand
+from ..wire.sequence import SequenceTracker
 
 log = logging.getLogger(__name__)
 
@@ -64,9 +65,12 @@ class MoveIntake:
         self._ready = threading.Event()
         self._failure: BaseException | None = None
         self._thread = threading.Thread(target=self._work, name=f"move intake {key}", daemon=True)
-        self._last_seq: dict[bytes, int] = {}
-        self.missed = 0
-        """moves lost on the way, from gaps in each sender's sequence numbers"""
+        self._sequences = SequenceTracker()
+
+    @property
+    def missed(self) -> int:
+        """Moves lost on the way, from gaps in each sender's sequence numbers."""
+        return self._sequences.missed
 
     def __enter__(self) -> MoveIntake:
         self._thread.start()
@@ -120,10 +124,7 @@ class MoveIntake:
         if parsed is None:
             return b""
         seq, _stamp, sender = parsed
-        last = self._last_seq.get(sender)
-        if last is not None and seq > last + 1:
-            self.missed += seq - last - 1
-        self._last_seq[sender] = seq
+        self._sequences.add(sender, seq)
         return sender
 
     def _decode(self, payload: bytes, sender: bytes) -> ReceivedMove:
@@ -138,6 +139,11 @@ class MoveIntake:
         except Exception as exc:  # a bug in validation must not kill the intake silently
             log.exception("validating move %d failed", cmd.move_id)
             return ReceivedMove(cmd, None, sender, f"move {cmd.move_id}: validation failed: {exc}")
+
+    @property
+    def waiting(self) -> int:
+        """Moves received and validated, not yet taken by :meth:`poll`."""
+        return self._results.qsize()
 
     def poll(self, limit: int | None = None) -> list[ReceivedMove]:
         """The moves received and validated since the last call, in arrival order (at most ``limit``;

@@ -32,7 +32,8 @@ from ..wire.keys import AxisKeys
 from ..wire.messages import APPEND, MOVE_TYPE, SAMPLED_LAW, Knots, MoveCommand
 from ..wire.move_status import MoveState, MoveStatus
 from ..wire.quick_stop import QUICK_STOP_TYPE, QuickStop
-from .publisher import SequencedPublisher, Traffic, wait_for_subscribers
+from .publisher import SequencedPublisher, Traffic
+from .readiness import say_hello
 
 TERMINAL_STATES = frozenset({MoveState.REJECTED, MoveState.DROPPED, MoveState.STOPPED, MoveState.COMPLETED})
 """the states after which a move has nothing more to say"""
@@ -128,19 +129,24 @@ class MoveSender:
             )
 
     def wait_for_bridge(self, timeout_s: float) -> bool:
-        """True once the bridge's liveliness token is seen and the trajectory key has a subscriber.
+        """True once the bridge is ready for this sender's moves; False after ``timeout_s``.
 
-        (A recorder also subscribes to the trajectory key, so the subscriber alone does not prove
-        that a bridge listens.) False after ``timeout_s``.
-        """
+        Two facts make it ready. Its liveliness token is seen: the bridge declares the token last, after
+        its move subscriber, so this session knows that subscriber too (declarations arrive in order).
+        And a hello round trip to the publishers on the axis's event key has come back: the hello
+        travels behind this sender's own declarations (its status subscriber, its token), so the bridge
+        has read them — its statuses reach this sender, and its first move finds the token there
+        (:mod:`.readiness`)."""
         deadline = time.monotonic() + timeout_s
-        while True:
-            remaining = deadline - time.monotonic()
-            if remaining <= 0:
+        while not self.bridge_alive:
+            if time.monotonic() >= deadline:
                 return False
-            if self.bridge_alive:
-                return wait_for_subscribers([self._pub], max(deadline - time.monotonic(), 0.1))
             time.sleep(0.01)
+        try:
+            say_hello(self._session, self.keys.event, max(deadline - time.monotonic(), 0.001))
+        except AcquisitionError:
+            return False
+        return True
 
     def send(
         self,

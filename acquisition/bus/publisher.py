@@ -1,7 +1,8 @@
 """A Zenoh publisher that numbers its messages and attaches their source time stamp.
 
 Commands (moves) and telemetry (samples, setpoints) use different Zenoh priorities so that blocking
-command traffic never stalls telemetry and vice versa.
+command traffic never stalls telemetry and vice versa. Every publisher answers hellos
+(:mod:`.readiness`): a subscriber that joins proves its route to it before it counts on it.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import zenoh
 
 from ..wire.attachment import pack_attachment
 from ..wire.messages import SCHEMAS
+from .readiness import HelloResponder, MatchWatch
 
 
 class Traffic(Enum):
@@ -76,6 +78,11 @@ class SequencedPublisher:
         self._pub = session.declare_publisher(
             key, encoding=encoding_for(type_name), priority=priority, congestion_control=congestion
         )
+        try:
+            self._hello = HelloResponder(session, key, self.gid)
+        except BaseException:
+            self._pub.undeclare()
+            raise
 
     def put(self, payload: bytes, source_stamp_ns: int | None = None) -> int:
         """Publish one message; returns its sequence number (1, 2, …)."""
@@ -88,7 +95,13 @@ class SequencedPublisher:
     def has_subscribers(self) -> bool:
         return self._pub.matching_status.matching
 
+    def watch_matching(self) -> MatchWatch:
+        """A :class:`~.readiness.MatchWatch` of this publisher (close it, or use it as a context
+        manager)."""
+        return MatchWatch([self._pub])
+
     def undeclare(self) -> None:
+        self._hello.undeclare()
         self._pub.undeclare()
 
     def __enter__(self) -> SequencedPublisher:
@@ -98,18 +111,19 @@ class SequencedPublisher:
         self.undeclare()
 
 
-def wait_for_subscribers(
-    publishers: list[SequencedPublisher], timeout_s: float, settle_s: float = 0.3
-) -> bool:
+def watch_consumers(publishers: list[SequencedPublisher]) -> MatchWatch:
+    """A :class:`~.readiness.MatchWatch` set while any of ``publishers`` has a matching subscriber."""
+    return MatchWatch([p._pub for p in publishers])
+
+
+def wait_for_subscribers(publishers: list[SequencedPublisher], timeout_s: float) -> bool:
     """Wait until every publisher has a matching subscriber (True) or ``timeout_s`` passes (False).
 
-    After the match, waits ``settle_s`` more: routes may still be forming when the declaration
-    arrives (first messages were seen lost without it).
-    """
+    Zenoh's matching listener says so as soon as the subscriber's declaration has reached this
+    session: what is published from then on is routed to it (no settling time)."""
     deadline = time.monotonic() + timeout_s
-    while not all(p.has_subscribers for p in publishers):
-        if time.monotonic() >= deadline:
-            return False
-        time.sleep(0.01)
-    time.sleep(settle_s)
+    for pub in publishers:
+        with pub.watch_matching() as watch:
+            if not watch.wait(max(deadline - time.monotonic(), 0.0)):
+                return False
     return True

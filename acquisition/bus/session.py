@@ -39,12 +39,6 @@ from ..wire.keys import KeyExprError
 
 DEFAULT_ENDPOINT = "tcp/127.0.0.1:7447"
 LOOPBACK_ANY_PORT = "tcp/127.0.0.1:0"
-SUBSCRIBER_SETTLE_S = 0.5
-"""how long a new session waits before it declares a subscriber that must miss nothing (see
-:func:`settle`)"""
-_OPENED_AT: dict[str, float] = {}
-"""monotonic open time of the sessions :func:`open_session` opened, by session id, until settled (or
-until the next open after their settling time: sessions nobody settles are not kept)"""
 MODES = ("peer", "client", "router")
 CONNECT_WAIT_S = 5.0
 """default of :attr:`ZenohOptions.connect_wait_s` [s]"""
@@ -58,6 +52,8 @@ TLS_FILE_KEYS = (
 """the file paths of zenoh's ``transport/link/tls`` section"""
 _HOST_PORT_PROTOCOLS = ("tcp", "udp", "tls", "quic", "ws")
 """endpoint protocols whose address is ``host:port`` (others, e.g. unixsock-stream, zenoh checks)"""
+_ADDRESS_IN_USE = re.compile(r"bound to (?P<endpoint>\S+): .*Address already in use")
+"""zenoh's error when a listen endpoint's port is taken"""
 _HOST_LABEL = re.compile(r"^[A-Za-z0-9_](?:[A-Za-z0-9_-]{0,61}[A-Za-z0-9_])?$")
 
 
@@ -299,32 +295,20 @@ def open_session(options: ZenohOptions) -> zenoh.Session:
     try:
         session = zenoh.open(config)
     except zenoh.ZError as exc:
+        reason = zenoh_reason(exc)
+        in_use = _ADDRESS_IN_USE.search(reason)
+        if in_use:
+            raise ZenohConfigError(f"{in_use['endpoint']} is in use") from None
         if need.must_connect:
-            raise ZenohConnectError(need.open_failed_message(zenoh_reason(exc))) from None
-        raise ZenohConfigError(f"cannot open a zenoh session ({options}): {zenoh_reason(exc)}") from None
+            raise ZenohConnectError(need.open_failed_message(reason)) from None
+        listen = ", ".join(_endpoints(config, "listen", need.mode)) or "no endpoint"
+        raise ZenohConfigError(
+            f"cannot open a zenoh session ({need.mode} mode, listening on {listen}): {reason}"
+        ) from None
     if need.must_connect and not wait_connected(session, options.connect_wait_s):
         session.close()
         raise ZenohConnectError(need.unreachable_message(options.connect_wait_s))
-    now = time.monotonic()
-    for zid in [z for z, t in _OPENED_AT.items() if now - t >= SUBSCRIBER_SETTLE_S]:
-        del _OPENED_AT[zid]  # settled by now, whether or not settle() was called: nothing to keep
-    _OPENED_AT[str(session.info.zid())] = now
     return session
-
-
-def settle(session: zenoh.Session) -> None:
-    """Wait until ``session`` has been open :data:`SUBSCRIBER_SETTLE_S` (at once for an older one).
-
-    Measured with zenoh 1.10 (2026-11-23; docs/acquisition.md): a subscriber declared right after its
-    session opened, on a publisher already sending, lost a run of samples shortly after its first in
-    8 of 40 tries; declared 0.1 s after the open, 1 of 40; 0.3 s after, none in 80; 0.5 s after, none
-    in 150. Query and liveliness round trips before declaring did not help. The recorder and the live
-    view settle first."""
-    opened = _OPENED_AT.pop(str(session.info.zid()), None)
-    if opened is not None:
-        remaining = opened + SUBSCRIBER_SETTLE_S - time.monotonic()
-        if remaining > 0:
-            time.sleep(remaining)
 
 
 def check_key_expression(expr: str, option: str = "--keys") -> zenoh.KeyExpr:

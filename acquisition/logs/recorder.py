@@ -8,10 +8,17 @@ attachment (:mod:`~axisflow.acquisition.wire.attachment`). A channel and its ``r
 registered the first time a key appears; the type comes from the sample's ``application/cdr;<type>``
 encoding.
 
+Joining. The subscriber is declared once the routes from the publishers on the recorded keys are
+proven (:class:`~axisflow.acquisition.bus.readiness.JoinedSubscriber`): from then on the recorder is
+*ready* (``ready`` is set, ``on_ready`` called, the liveliness token
+:func:`~axisflow.acquisition.wire.keys.recorder_token` declared) and misses nothing an axisflow
+publisher sends.
+
 Crash safety. About once a second (``flush_interval_s``) the open chunk is written and fsynced, so a
 SIGKILL loses at most the last second; the file on disk stays readable by a streaming read and
-``axisflow recover`` rebuilds it into a complete one. SIGINT/SIGTERM (set ``stop``) drain the
-channel, then write the summary and footer: nothing received is lost.
+``axisflow recover`` rebuilds it into a complete one. SIGINT/SIGTERM (set ``stop``): one hello proves
+that what the publishers sent before it has arrived, the channel is drained, then the summary and
+footer are written: nothing sent before the stop is lost.
 
 Splitting: with ``split_bytes`` or ``split_duration_s`` the recording rolls over to
 ``<stem>_0000.mcap``, ``<stem>_0001.mcap``, … at the first flush past the limit.
@@ -23,8 +30,11 @@ sequence numbers of each publisher (key, publisher id); publish→write latency 
 from __future__ import annotations
 
 import logging
+import os
+import socket
 import threading
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -32,11 +42,13 @@ import zenoh
 
 from ...model.files import OutputError, check_output_file
 from ..bus.publisher import mcap_encoding_of
-from ..bus.session import check_key_expression, settle
+from ..bus.readiness import HELLO_TIMEOUT_S, JoinedSubscriber, JoinReport
+from ..bus.session import check_key_expression
 from ..errors import RecordingError
 from ..histogram import DurationHistogram, DurationStats
 from ..wire.attachment import unpack_attachment
-from ..wire.keys import all_keys, topic_for_key
+from ..wire.keys import all_keys, recorder_token, topic_for_key
+from ..wire.sequence import SequenceTracker
 from .mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE, Ros2McapWriter
 
 log = logging.getLogger(__name__)
@@ -44,6 +56,8 @@ log = logging.getLogger(__name__)
 DEFAULT_QUEUE_CAPACITY = 1 << 16
 """samples the receive channel holds before it applies back-pressure"""
 _IDLE_SLEEP_S = 0.0005
+_DRAIN_BATCH = 256
+"""samples written before the loop looks at the clock again"""
 LIVE_STAMP_WINDOW_NS = 1_000_000_000
 """a stamp further than this from the wall clock is not live (e.g. a replay): no latency from it"""
 
@@ -59,6 +73,8 @@ class RecorderConfig:
     split_duration_s: float | None = None
     chunk_size: int = DEFAULT_CHUNK_SIZE
     queue_capacity: int = DEFAULT_QUEUE_CAPACITY
+    join_timeout_s: float = HELLO_TIMEOUT_S
+    """how long the publishers on ``keys`` may take to answer the join's hellos [s]"""
     overwrite: bool = False
     """replace existing recordings (``output`` or its split files) instead of refusing to start"""
 
@@ -70,6 +86,7 @@ class RecorderConfig:
             ("flush interval", self.flush_interval_s, "s"),
             ("split size", self.split_bytes, "bytes"),
             ("split duration", self.split_duration_s, "s"),
+            ("join timeout", self.join_timeout_s, "s"),
         ):
             if value is not None and not value > 0:
                 raise RecordingError(f"recorder {name} = {value} {unit} must be > 0 {unit}")
@@ -106,12 +123,16 @@ def check_outputs(config: RecorderConfig) -> None:
 class TopicStats:
     topic: str
     messages: int = 0
-    missed: int = 0
     first_log_ns: int = 0
     last_log_ns: int = 0
-    publishers: dict[bytes, list[int]] = field(default_factory=dict)
-    """publisher id → [first sequence, last sequence, messages] (a sender that restarts is a new
-    publisher: its sequence starts again at 1)"""
+    sequences: SequenceTracker = field(default_factory=SequenceTracker)
+    """per publisher id: its sequence numbers' span, gaps and duplicates (a sender that restarts is a
+    new publisher: its sequence starts again at 1)"""
+
+    @property
+    def missed(self) -> int:
+        """messages lost on the way (gaps in the sequence numbers)"""
+        return self.sequences.missed
 
     @property
     def duration_s(self) -> float:
@@ -134,6 +155,8 @@ class RecordSummary:
     """publish (attachment stamp) → write [µs]"""
     stale_stamps: int = 0
     """messages whose stamp was more than LIVE_STAMP_WINDOW_NS from the wall clock (not in latency)"""
+    joined: JoinReport | None = None
+    """how the subscriber joined (the publishers whose routes were proven)"""
 
     @property
     def messages(self) -> int:
@@ -146,20 +169,25 @@ class RecordSummary:
     def format(self) -> str:
         lines = [
             f"recorded {self.messages} messages on {len(self.topics)} topics in {self.wall_time_s:.3f} s "
-            f"to {', '.join(str(f) for f in self.files)}; missed {self.missed}",
+            f"to {', '.join(str(f) for f in self.files) or 'no file'}; missed {self.missed}",
             f"  {'topic':<40} {'messages':>9} {'duration s':>10} {'rate Hz':>9} {'missed':>7}",
         ]
         for t in sorted(self.topics.values(), key=lambda t: t.topic):
             rate = "–" if t.rate_hz is None else f"{t.rate_hz:.1f}"
             lines.append(f"  {t.topic:<40} {t.messages:>9} {t.duration_s:>10.3f} {rate:>9} {t.missed:>7}")
         for t in sorted(self.topics.values(), key=lambda t: t.topic):
-            if len(t.publishers) > 1:
-                spans = ", then ".join(f"seq {a}–{b}" for a, b, _n in t.publishers.values())
+            publishers = t.sequences.publishers.values()
+            if len(publishers) > 1:
+                spans = ", then ".join(f"seq {p.first}–{p.last}" for p in publishers)
                 lines.append(
-                    f"  {t.topic}: {len(t.publishers)} publishers one after the other ({spans}): its sender "
+                    f"  {t.topic}: {len(publishers)} publishers one after the other ({spans}): its sender "
                     "restarted; the stamps show the gap"
                 )
-        if not self.topics:
+            if t.sequences.duplicates:
+                lines.append(f"  {t.topic}: {t.sequences.duplicates} messages repeated or out of order")
+        if not self.files:
+            lines.append("  stopped before the recording began: no file written")
+        elif not self.topics:
             lines.append(
                 f"  no message matched {self.keys}: is a publisher running, and reachable with the "
                 "--connect/--listen endpoints given?"
@@ -189,9 +217,16 @@ class RecordSummary:
                     "missed": t.missed,
                     "duration_s": t.duration_s,
                     "rate_hz": t.rate_hz,
+                    "duplicates": t.sequences.duplicates,
                     "publishers": [
-                        {"id": gid.hex(), "first_sequence": a, "last_sequence": b, "messages": n}
-                        for gid, (a, b, n) in t.publishers.items()
+                        {
+                            "id": gid.hex(),
+                            "first_sequence": p.first,
+                            "last_sequence": p.last,
+                            "messages": p.messages,
+                            "missed": p.missed,
+                        }
+                        for gid, p in t.sequences.publishers.items()
                     ],
                 }
                 for t in self.topics.values()
@@ -217,7 +252,7 @@ class Recorder:
         self._file_started = 0.0
         self._latency = DurationHistogram()
         self.ready = threading.Event()
-        """set once the subscriber is declared"""
+        """set once the subscriber has joined: nothing published from then on is missed"""
 
     def _open_next(self) -> Ros2McapWriter:
         path = split_path(self.config.output, self._file_index) if self._split else self.config.output
@@ -258,14 +293,7 @@ class Recorder:
         parsed = unpack_attachment(att.to_bytes()) if att is not None else None
         if parsed is not None:
             seq, stamp, gid = parsed
-            span = stats.publishers.get(gid)  # [first, last, count] of this publisher's sequence numbers
-            if span is None:
-                stats.publishers[gid] = [seq, seq, 1]
-            else:
-                if seq > span[1] + 1:
-                    stats.missed += seq - span[1] - 1
-                span[1] = seq
-                span[2] += 1
+            stats.sequences.add(gid, seq)
             if abs(now - stamp) <= LIVE_STAMP_WINDOW_NS:
                 self._latency.add_ns(now - stamp)
             else:
@@ -276,50 +304,41 @@ class Recorder:
         stats.messages += 1
         stats.last_log_ns = now
 
-    def run(self, session: zenoh.Session, stop: threading.Event | None = None) -> RecordSummary:
-        """Record until ``stop`` is set or ``duration_s`` has passed; returns the summary."""
+    def run(
+        self,
+        session: zenoh.Session,
+        stop: threading.Event | None = None,
+        on_ready: Callable[[], None] | None = None,
+    ) -> RecordSummary:
+        """Record until ``stop`` is set or ``duration_s`` has passed; returns the summary.
+        ``on_ready`` is called once the subscriber has joined (see the module docstring)."""
         stop = stop or threading.Event()
         c = self.config
-        settle(session)  # a subscriber declared on a new session may lose samples (bus.session.settle)
         t0 = time.monotonic()
-        deadline = None if c.duration_s is None else t0 + c.duration_s
-        next_flush = t0 + c.flush_interval_s
-        self._writer = self._open_next()
         failure: OSError | None = None
-        try:
-            with session.declare_subscriber(c.keys, zenoh.handlers.FifoChannel(c.queue_capacity)) as sub:
-                self.ready.set()
-                while True:
-                    sample = sub.try_recv()
-                    if sample is not None:
-                        self._write(sample)
-                        # drain a batch before looking at the clock
-                        for _ in range(255):
-                            sample = sub.try_recv()
-                            if sample is None:
-                                break
-                            self._write(sample)
-                    now = time.monotonic()
-                    if now >= next_flush:
-                        self._writer.flush()
-                        next_flush = now + c.flush_interval_s
-                        if self._split:
-                            self._maybe_split()
-                    if stop.is_set() or (deadline is not None and now >= deadline):
-                        while (sample := sub.try_recv()) is not None:
-                            self._write(sample)
-                        break
-                    if sample is None:
-                        time.sleep(_IDLE_SLEEP_S)
-        except OSError as exc:  # a full disk, a file system gone read-only
-            failure = exc
-        finally:
+        handler = lambda: zenoh.handlers.FifoChannel(c.queue_capacity)  # noqa: E731
+        # joined before the file is created: a recorder that cannot join leaves no file behind
+        token = recorder_token(socket.gethostname(), os.getpid())
+        with JoinedSubscriber(session, c.keys, handler, c.join_timeout_s, stop, token) as joined:
+            if joined.subscriber is None:  # stopped before it was ready: nothing to write
+                self.summary.wall_time_s = time.monotonic() - t0
+                return self.summary
+            self.summary.joined = joined.report
+            self._writer = self._open_next()
             try:
-                self._writer.finish()
-            except OSError as exc:
-                failure = failure or exc
-            self.summary.wall_time_s = time.monotonic() - t0
-            self.summary.latency = self._latency.stats()
+                self.ready.set()
+                if on_ready is not None:
+                    on_ready()
+                self._record(joined, stop, time.monotonic())
+            except OSError as exc:  # a full disk, a file system gone read-only
+                failure = exc
+            finally:
+                try:
+                    self._writer.finish()
+                except OSError as exc:
+                    failure = failure or exc
+                self.summary.wall_time_s = time.monotonic() - t0
+                self.summary.latency = self._latency.stats()
         if failure is not None:
             path = self._writer.path
             raise RecordingError(
@@ -327,3 +346,36 @@ class Recorder:
                 f"(`axisflow recover {path}` rebuilds it into a complete file)"
             )
         return self.summary
+
+    def _record(self, joined: JoinedSubscriber, stop: threading.Event, started: float) -> None:
+        """The recording loop: drain, write, flush every ``flush_interval_s``, until stopped; then one
+        hello (draining meanwhile) and what the channel still holds of the time before it."""
+        c = self.config
+        sub = joined.subscriber
+        assert sub is not None and self._writer is not None
+        deadline = None if c.duration_s is None else started + c.duration_s
+        next_flush = started + c.flush_interval_s
+        while True:
+            written = self._drain(sub, _DRAIN_BATCH)
+            now = time.monotonic()
+            if now >= next_flush:
+                self._writer.flush()
+                next_flush = now + c.flush_interval_s
+                if self._split:
+                    self._maybe_split()
+            if stop.is_set() or (deadline is not None and now >= deadline):
+                joined.flush(while_waiting=lambda: self._drain(sub, _DRAIN_BATCH))
+                # everything sent before the hello is in the channel now, behind at most its capacity
+                # (a bridge at speed 0 refills it as fast as it is drained: take no more than that)
+                self._drain(sub, c.queue_capacity)
+                return
+            if not written:
+                time.sleep(_IDLE_SLEEP_S)
+
+    def _drain(self, sub: zenoh.Subscriber, limit: int) -> int:
+        """Write up to ``limit`` samples waiting in the channel; returns how many."""
+        n = 0
+        while n < limit and (sample := sub.try_recv()) is not None:
+            self._write(sample)
+            n += 1
+        return n

@@ -12,7 +12,11 @@ Per axis, under a configurable prefix (default ``axisflow``):
   time, certificate), ``axisflow_msgs/msg/PlanResult``;
 * ``<prefix>/<axis>/alive`` — a Zenoh liveliness token held by the running bridge (not pub/sub data);
 * ``<prefix>/<axis>/sender/<id>`` — a liveliness token held by each move sender while it lives
-  (``<id>``: the hex publisher id in its moves' attachments); a bridge runs only moves of live senders.
+  (``<id>``: the hex publisher id in its moves' attachments); a bridge runs only moves of live senders;
+* ``@axisflow/hello/<key>/<id>`` — the queryable of each publisher on ``<key>``, answering hellos
+  (:mod:`.hello`); the verbatim ``@axisflow`` chunk keeps it out of every ``**``;
+* ``@axisflow/recorder/<host>/<pid>`` — a liveliness token held by each recorder once it is ready (its
+  subscriber has joined: a session that sees the token knows the subscriber too).
 
 The MCAP topic of a key is ``/`` + the key (``/axisflow/a0/state``).
 """
@@ -24,6 +28,8 @@ from dataclasses import dataclass
 from ..errors import AcquisitionError
 
 DEFAULT_PREFIX = "axisflow"
+HELLO_PREFIX = "@axisflow/hello"
+RECORDER_TOKEN_PREFIX = "@axisflow/recorder"
 DEFAULT_AXIS = "a0"
 _FORBIDDEN = set("*$#?/ ")
 
@@ -120,3 +126,19 @@ def topic_for_key(key: str) -> str:
 def key_for_topic(topic: str) -> str:
     """Key expression of an MCAP topic (the inverse of :func:`topic_for_key`)."""
     return topic[1:] if topic.startswith("/") else topic
+
+
+def hello_key(key: str, publisher_id: bytes) -> str:
+    """The key on which the publisher ``publisher_id`` on ``key`` answers hellos."""
+    return f"{HELLO_PREFIX}/{key}/{publisher_id.hex()}"
+
+
+def hello_selector(key_expr: str) -> str:
+    """The key expression of the hellos of every publisher whose key matches ``key_expr``."""
+    return f"{HELLO_PREFIX}/{key_expr}/*"
+
+
+def recorder_token(host: str, pid: int) -> str:
+    """The liveliness token of the recorder process ``pid`` on ``host``, held once it is ready."""
+    _check_chunk("host name", host, allow_slash=False)
+    return f"{RECORDER_TOKEN_PREFIX}/{host}/{pid}"

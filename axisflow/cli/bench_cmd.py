@@ -19,6 +19,7 @@ BENCHMARKS: dict[str, str] = {
     "faults": "faults",
     "plant": "plant",
     "drives": "drives",
+    "joins": "joins",
 }
 
 

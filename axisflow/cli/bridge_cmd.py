@@ -5,13 +5,14 @@ from __future__ import annotations
 import argparse
 import gc
 import json
+import os
 import sys
 import threading
 from contextlib import ExitStack
 
-from ..acquisition.bridge.bridge import Bridge, BridgeConfig, BridgeReport, run_bridge, run_bridges
+from ..acquisition.bridge.bridge import Bridge, BridgeConfig, BridgeReport, run_bridges
 from ..acquisition.bridge.move_queue import DEFAULT_JUMP_TOLERANCE_M
-from ..acquisition.bus.session import ZenohOptions, open_session
+from ..acquisition.bus.session import DEFAULT_ENDPOINT, ZenohOptions, open_session
 from ..acquisition.drives.canopen.config import DriveConfig, Pacing, load_drive_config
 from ..acquisition.drives.canopen.cycle import CycleReport
 from ..acquisition.drives.canopen.master import open_master
@@ -24,11 +25,11 @@ from ..acquisition.drives.plant import (
     load_profile,
 )
 from ..acquisition.drives.sim_axis import SimulatedAxis
-from ..acquisition.shutdown import stop_on_signals
 from ..acquisition.wire.drive_info import SIMULATED, DriveInfo
 from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
 from ..arguments import add_params_option, finite_float, params_from_args
-from ..model import AxisflowError, AxisParams
+from ..model import EXECUTION_PERIOD_NS, AxisflowError, AxisParams
+from ..processes import notify_ready, stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 DRIVES = ("sim", "canopen", "canopen-sim")
@@ -183,16 +184,18 @@ def _run_simulated_axis(args: argparse.Namespace, params: AxisParams, options: Z
     # its clock starts at the first sample
     drive = SimulatedAxis(plant, params, axis=args.axis, state_path=args.plant_state)
     with stop_on_signals() as stop, open_session(options) as session:
-        # what is allocated by now lives as long as the process: out of the collector's way, so a full
-        # collection on the 1 kHz loop costs ~0 ms instead of 40–55 ms (measured)
-        gc.freeze()
-        if not args.json:
-            assert config.drive is not None
-            print(f"bridge: axis {args.axis}, {config.drive.describe()}", file=sys.stderr, flush=True)
         try:
-            report = run_bridge(session, drive, params, config, stop)
+            with Bridge(session, drive, params, config) as bridge:
+                if not args.json:
+                    print(startup_line(config, options), file=sys.stderr, flush=True)
+                notify_ready()
+                # what is allocated by now lives as long as the process: out of the collector's way,
+                # so a full collection on the 1 kHz loop costs ~0 ms instead of 40–55 ms (measured)
+                gc.freeze()
+                bridge.run(stop)
         finally:
             drive.close()
+        report = bridge.report
         # the report is out before the session closes (a close that hangs must not take it along)
         _print_reports(args, {args.axis: report})
     return 0
@@ -215,9 +218,6 @@ def _run_canopen(
                 stack.enter_context(SimulatedDrive(drives.can, settings, drives.cycle_hz, plant, params))
         session = stack.enter_context(open_session(options))
         master = stack.enter_context(open_master(drives, params, args.reset_fault))
-        if not args.json:
-            for info in master.infos:
-                print(f"axisflow bridge: {info.describe()}", file=sys.stderr, flush=True)
         with master.cycle.idle():  # a real drive watches the SYNC from the moment it is enabled
             bridges = []
             for drive, settings, info in zip(master.drives, drives.drives, master.infos, strict=True):
@@ -226,6 +226,9 @@ def _run_canopen(
                     what = DriveInfo(0, what.axis, f"simulated {what.drive}", plant.profile, plant.source)
                 config = _bridge_config(args, what.axis, what)
                 bridges.append(stack.enter_context(Bridge(session, drive, params, config)))
+                if not args.json:
+                    print(startup_line(config, options), file=sys.stderr, flush=True)
+            notify_ready()
             gc.freeze()
         master.cycle.start_measuring()
         run_bridges(bridges, stop, master.cycle.after_tick)
@@ -250,3 +253,27 @@ def _print_reports(
         print(prefix + report.summary(), flush=True)
     if bus is not None:
         print(bus.summary(), flush=True)
+
+
+def startup_line(config: BridgeConfig, options: ZenohOptions) -> str:
+    """What a starting bridge says: the axis, where Zenoh reaches it, the drive, the rate, how to stop."""
+    rate_hz = 1e9 / EXECUTION_PERIOD_NS
+    pace = (
+        "as fast as its consumers allow (none: it waits)"
+        if config.speed == 0
+        else f"at {config.speed:g}× real time"
+    )
+    if options.listen:
+        where = f"listening on {', '.join(options.listen)}"
+    elif options.config_file is not None:
+        where = f"Zenoh as configured in {options.config_file}"
+    elif options.connect:
+        where = f"connected to {', '.join(options.connect)}"
+    else:
+        where = f"on {DEFAULT_ENDPOINT} (or a port of its own if taken)"
+    duration = f" for {config.duration_s:g} s of drive time" if config.duration_s is not None else ""
+    return (
+        f"axisflow bridge: axis {config.keys.axis} ({config.keys.prefix}/{config.keys.axis}/…) {where}; "
+        f"{config.drive.describe() if config.drive else 'a drive'}, {rate_hz / 1e3:g} kHz {pace}{duration}; "
+        f"stop it with Ctrl-C or kill -TERM {os.getpid()}"
+    )

@@ -8,12 +8,12 @@ import time
 from pathlib import Path
 
 from ..acquisition.drives.plant import DEFAULT_PROFILE, PROFILE_RESOURCES
-from ..acquisition.shutdown import stop_on_signals
 from ..arguments import finite_float, non_negative_int, positive_int, waypoint_count
 from ..demo import DEFAULT_LOOKAHEAD, DEFAULT_LOOKAHEAD_S, DEFAULT_WAYPOINTS, DemoSettings, run_demo
 from ..model import AxisflowError
 from ..model.files import check_output_dir
 from ..planner import BACKENDS
+from ..processes import stop_on_signals
 from ..table2_record import table_markdown
 
 

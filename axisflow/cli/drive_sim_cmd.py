@@ -8,9 +8,9 @@ import sys
 from ..acquisition.drives.canopen.config import load_drive_config
 from ..acquisition.drives.canopen.sim_drive import DEFAULT_FAULT_CODE, FaultPlan, SimulatedDrive
 from ..acquisition.drives.sim_axis import load_plant
-from ..acquisition.shutdown import stop_on_signals
 from ..arguments import add_params_option, finite_float, params_from_args
 from ..model import AxisflowError
+from ..processes import stop_on_signals
 
 IN_PROCESS_INTERFACES = ("virtual",)
 

@@ -11,6 +11,7 @@ from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
 from ..arguments import add_params_option, finite_float, params_from_args
 from ..excite import run_excitation
 from ..identification.excitation import DEFAULT_DURATION_S, DEFAULT_TORQUE_MARGIN, design_excitation
+from ..processes import stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 
@@ -80,8 +81,8 @@ def run(args: argparse.Namespace) -> int:
             file=sys.stderr,
             flush=True,
         )
-    with open_session(zenoh_options_from_args(args)) as session:
-        report = run_excitation(session, keys, params, plan, None if args.json else progress)
+    with stop_on_signals() as stop, open_session(zenoh_options_from_args(args)) as session:
+        report = run_excitation(session, keys, params, plan, None if args.json else progress, stop)
     print(
         json.dumps({**report.to_dict(), "plan": plan.to_json()}, indent=2) if args.json else report.format()
     )

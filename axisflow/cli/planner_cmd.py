@@ -8,7 +8,6 @@ import sys
 from collections.abc import Callable
 
 from ..acquisition.bus.session import open_session
-from ..acquisition.shutdown import stop_on_signals
 from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
 from ..arguments import (
     add_params_option,
@@ -24,6 +23,7 @@ from ..experiment import LAWS
 from ..model import AxisflowError
 from ..planner import DEFAULT_OMEGA, Case
 from ..planner_node import NodeRun, NodeSettings, PlannerNode, RunReport
+from ..processes import stop_on_signals
 from ..waypoints import load_waypoints, random_waypoints
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 

@@ -9,9 +9,9 @@ from pathlib import Path
 from ..acquisition.bus.session import open_session
 from ..acquisition.logs.mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE
 from ..acquisition.logs.recorder import DEFAULT_QUEUE_CAPACITY, Recorder, RecorderConfig
-from ..acquisition.shutdown import stop_on_signals
 from ..acquisition.wire.keys import all_keys
 from ..arguments import finite_float, positive_int
+from ..processes import notify_ready, stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 _SIZE_SUFFIXES = {"": 1, "k": 10**3, "m": 10**6, "g": 10**9}
@@ -92,6 +92,6 @@ def run(args: argparse.Namespace) -> int:
     )
     recorder = Recorder(config)
     with stop_on_signals() as stop, open_session(zenoh_options_from_args(args)) as session:
-        summary = recorder.run(session, stop)
+        summary = recorder.run(session, stop, on_ready=notify_ready)
     print(json.dumps(summary.to_dict(), indent=2) if args.json else summary.format(), flush=True)
     return 0

@@ -7,8 +7,8 @@ import sys
 
 from ..acquisition.bus.session import open_session
 from ..acquisition.logs.replay import ReplayProgress, replay
-from ..acquisition.shutdown import stop_on_signals
 from ..arguments import finite_float
+from ..processes import stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 

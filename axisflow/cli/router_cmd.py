@@ -11,8 +11,8 @@ import time
 
 from ..acquisition.bus.session import ZenohOptions, build_config, open_session
 from ..acquisition.errors import ZenohConfigError
-from ..acquisition.shutdown import stop_on_signals
 from ..arguments import finite_float
+from ..processes import stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 

@@ -8,11 +8,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..acquisition.logs.reader import check_mcap
-from ..acquisition.shutdown import stop_on_signals
 from ..acquisition.wire.keys import all_keys
 from ..arguments import add_params_option, finite_float, params_from_args, tcp_port_or_any
 from ..model import AxisParams
 from ..model.files import check_distinct_inputs
+from ..processes import notify_ready, stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 if TYPE_CHECKING:
@@ -132,7 +132,7 @@ def _run_live(args: argparse.Namespace, params: AxisParams) -> int:
         view = LiveView(out, params, keys)
         if out.web_url:
             print(f"serving the view at {out.web_url}", flush=True)
-        report = view.run(session, stop, args.duration)
+        report = view.run(session, stop, args.duration, on_ready=notify_ready)
     _print(args, {**report.to_dict(), "rrd": str(output.rrd) if output.rrd else None}, report.format())
     if output.rrd is not None and not args.json:
         print(f"wrote {output.rrd}", flush=True)

@@ -1,18 +1,63 @@
 """Command-line behaviour: commands exit (no hang), user errors exit 2 without a traceback."""
 
+import json
+import os
+import time
+from pathlib import Path
+
 import pytest
 
 
 def test_record_and_bridge_exit_on_their_own(cli, tmp_path, port):
+    """A recorder with --duration and a bridge with --duration each end by themselves (a command that
+    hangs at exit fails the test); the bridge at speed 0 runs as fast as its consumer, the recorder."""
     rec = cli.start(
-        "record", "-o", str(tmp_path / "x.mcap"), "--listen", f"tcp/127.0.0.1:{port}", "--duration", "1"
-    )
+        "record", "-o", str(tmp_path / "x.mcap"), "--listen", f"tcp/127.0.0.1:{port}", "--duration", "20",
+        ready=True,
+    )  # fmt: skip
+    cli.wait_ready(rec)
     bridge = cli.run(
-        "bridge", "--sim", "--connect", f"tcp/127.0.0.1:{port}", "--duration", "0.5", "--speed", "0"
+        "bridge", "--sim", "--connect", f"tcp/127.0.0.1:{port}", "--duration", "0.5", "--speed", "0", "--json"
     )
     assert bridge.returncode == 0, bridge.stderr
-    out, err = cli.finish(rec, timeout=30)  # fails the test if the recorder hangs at exit
+    assert json.loads(bridge.stdout)["ticks"] == 500
+    out, err = cli.finish(rec, timeout=60)  # fails the test if the recorder hangs at exit
     assert "recorded" in out, err
+
+
+def test_a_bridge_at_speed_0_waits_while_nobody_subscribes(cli, port):
+    """No consumer: no tick runs and the process sleeps (before, it spun a core for nothing); a
+    subscriber makes it run; SIGINT ends it."""
+    import signal
+
+    from axisflow.acquisition import AxisKeys, ZenohOptions, open_session
+    from axisflow.acquisition.bus.axis_state import AxisState
+
+    from axisflow.processes import wait_until
+
+    bridge = cli.start(
+        "bridge", "--sim", "--speed", "0", "--listen", f"tcp/127.0.0.1:{port}", "--json", ready=True
+    )
+    cli.wait_ready(bridge)
+    busy = _cpu_seconds(bridge.pid)
+    time.sleep(1.0)  # measuring an interval of idleness: there is no event to wait for
+    assert _cpu_seconds(bridge.pid) - busy < 0.2  # a spinning loop takes ~1 s of CPU a second
+    with (
+        open_session(ZenohOptions.loopback(connect_port=port)) as session,
+        AxisState(session, AxisKeys(), "setpoint") as setpoint,
+    ):
+        first = setpoint.wait(20.0)  # a consumer: the ticks run
+        assert wait_until(lambda: setpoint.latest().stamp_ns > first.stamp_ns + 10**9, 20.0)
+    bridge.send_signal(signal.SIGINT)
+    out, err = cli.finish(bridge)
+    assert bridge.returncode == 0, err
+    assert json.loads(out)["ticks"] >= 1000
+
+
+def _cpu_seconds(pid: int) -> float:
+    """User + system CPU time of a process [s] (Linux /proc)."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
 def test_bridge_with_default_zenoh_config_exits_even_when_7447_is_taken(cli):
@@ -28,7 +73,7 @@ def test_bridge_with_default_zenoh_config_exits_even_when_7447_is_taken(cli):
     except OSError:
         pass  # already taken by another process: the same situation
     try:
-        result = cli.run("bridge", "--sim", "--duration", "0.2", "--speed", "0", "--json", timeout=60)
+        result = cli.run("bridge", "--sim", "--duration", "0.2", "--json", timeout=60)
     finally:
         holder.close()
     assert result.returncode == 0, result.stderr
@@ -168,19 +213,25 @@ def test_a_bridge_waits_for_its_recorder_and_stamps_its_samples_when_it_starts(c
     """--wait-subscribers really waits (the recorder starts 2 s after the bridge and still gets the
     first sample), and the drive's clock starts with the loop (stamps close to the publish time)."""
     import signal
-    import time
+
+    from axisflow.acquisition import AxisKeys, ZenohOptions, open_session
+    from axisflow.acquisition.bus.readiness import wait_for_token
+
+    from axisflow.processes import wait_until
 
     out = tmp_path / "late.mcap"
     bridge = cli.start(
         "bridge", "--sim", "--listen", f"tcp/127.0.0.1:{port}", "--duration", "1", "--wait-subscribers", "60"
     )
-    time.sleep(2.0)
-    assert bridge.poll() is None  # still waiting
+    with open_session(ZenohOptions.loopback(connect_port=port)) as session:
+        assert wait_for_token(session, AxisKeys().alive, 60.0)  # it is up (its token is declared last)
+    assert bridge.poll() is None  # and still waiting
     rec = cli.start(
         "record", "-o", str(out), "--connect", f"tcp/127.0.0.1:{port}", "--keys", "axisflow/*/state"
     )
     _out, err = cli.finish(bridge, timeout=60)
     assert bridge.returncode == 0, err
+    assert wait_until(lambda: cli.on_disk(out) == 1000, 30.0)  # all flushed to disk
     rec.send_signal(signal.SIGINT)
     cli.finish(rec)
     msgs = cli.decoded(out, "/axisflow/a0/state")

@@ -1274,6 +1274,56 @@ def _tree(folder: Path) -> dict[str, bytes | str]:
     return out
 
 
+# a listen endpoint whose port another process holds: one line naming it, for every command that listens
+PORT_IN_USE = [
+    ("bridge", "--sim", "--duration", "1"),
+    ("record", "-o", "new.mcap", "--duration", "1"),
+    ("replay", "still.mcap", "--no-wait"),
+    ("view", "--live", "-o", "new.rrd", "--duration", "1"),
+    ("router",),
+]
+
+
+@pytest.mark.parametrize("args", PORT_IN_USE, ids=[a[0] for a in PORT_IN_USE])
+def test_a_port_in_use_is_one_line_naming_it(args, inputs, tmp_path, capfd, monkeypatch):
+    import socket
+
+    monkeypatch.chdir(tmp_path)
+    for name in ("still.mcap",):
+        (tmp_path / name).symlink_to(inputs / name)
+    with socket.socket() as holder:
+        holder.bind(("127.0.0.1", 0))
+        holder.listen()
+        endpoint = f"tcp/127.0.0.1:{holder.getsockname()[1]}"
+        code = main([*args, "--listen", endpoint])
+    out, err = capfd.readouterr()
+    assert code == 2 and out == "" and "Traceback" not in err, err
+    line = _error_line(err, args[0])
+    assert line == f"axisflow {args[0]}: error: {endpoint} is in use"  # no repr, no Rust source path
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["still.mcap"]  # nothing written
+
+
+@pytest.mark.slow
+def test_a_second_bridge_on_an_axis_is_refused_naming_where_the_first_runs(cli, port):
+    first = cli.start("bridge", "--sim", "--listen", f"tcp/127.0.0.1:{port}", ready=True)
+    cli.wait_ready(first)
+    second = cli.run("bridge", "--sim", "--connect", f"tcp/127.0.0.1:{port}", "--duration", "5", timeout=60)
+    assert second.returncode == 2 and second.stdout == "" and "Traceback" not in second.stderr
+    line = _error_line(second.stderr, "bridge")
+    for fragment in (
+        "axis 'a0' already has a bridge (it holds axisflow/a0/alive)",
+        f"pid {first.pid} on host ",
+        f"reached at tcp/127.0.0.1:{port}",
+        "give this bridge another --axis",
+    ):
+        assert fragment in line, line
+    other_axis = cli.run(
+        "bridge", "--sim", "--axis", "a1", "--connect", f"tcp/127.0.0.1:{port}", "--duration", "0.1"
+    )
+    assert other_axis.returncode == 0, other_axis.stderr  # another axis is free
+    assert first.poll() is None  # the first runs on
+
+
 def _copy(src: Path, dst: Path) -> None:
     import shutil
 

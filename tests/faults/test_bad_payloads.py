@@ -7,8 +7,10 @@ import pytest
 from axisflow.acquisition.bridge.move_queue import validate_move
 from axisflow.acquisition.errors import AcquisitionError
 from axisflow.acquisition.wire.messages import MoveCommand
-from axisflow.benchmarks.faults import PayloadCatalog, bad_payloads
 from axisflow.model import default_params
+
+from axisflow.faults.bad_payloads import bad_payloads
+from axisflow.faults.payloads import PayloadCatalog
 
 P = default_params()
 

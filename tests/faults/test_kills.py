@@ -1,7 +1,9 @@
 """Faults 1 and 2: the recorder and the bridge SIGKILLed mid-session (real processes and files)."""
 
 import pytest
-from axisflow.benchmarks.faults import MAX_CRASH_LOSS_S, bridge_kill, recorder_kill
+
+from axisflow.faults.bridge_kill import bridge_kill
+from axisflow.faults.recorder_kill import MAX_CRASH_LOSS_S, recorder_kill
 
 
 @pytest.mark.slow

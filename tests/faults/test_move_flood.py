@@ -1,7 +1,8 @@
 """Fault 5: thousands of valid moves from one sender, three senders one after another."""
 
 import pytest
-from axisflow.benchmarks.faults import MAX_FLOOD_RSS_GROWTH_MB, move_flood
+
+from axisflow.faults.move_flood import MAX_FLOOD_RSS_GROWTH_MB, move_flood
 
 
 @pytest.mark.slow

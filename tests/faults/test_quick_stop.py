@@ -2,7 +2,8 @@
 axis's physical minimum (tests/acquisition/test_quick_stop.py checks it step by step in-process)."""
 
 import pytest
-from axisflow.benchmarks.faults import quick_stop
+
+from axisflow.faults.quick_stop import quick_stop
 
 
 @pytest.mark.slow

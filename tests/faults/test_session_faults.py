@@ -2,7 +2,8 @@
 Zenoh peers coming and going; the first recording stays complete."""
 
 import pytest
-from axisflow.benchmarks.faults import JOIN_LOSS_ALLOWANCE, session_faults
+
+from axisflow.faults.session_faults import JOIN_LOSS_ALLOWANCE, session_faults
 
 
 @pytest.fixture(scope="module")

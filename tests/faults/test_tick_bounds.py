@@ -2,8 +2,6 @@
 loopback): a burst of moves is taken a few per tick, a dropped queue's statuses go out a few per tick,
 and a payload larger than any move is refused from its length."""
 
-import time
-
 from axisflow.acquisition import (
     AxisKeys,
     BridgeConfig,
@@ -16,8 +14,11 @@ from axisflow.acquisition import (
 )
 from axisflow.acquisition.bridge.bridge import MOVES_PER_TICK, STATUSES_PER_TICK, Bridge
 from axisflow.acquisition.bridge.move_intake import MAX_PAYLOAD_BYTES
-from axisflow.benchmarks.faults import RawSender, StatusWatch, wait_until
 from axisflow.model import default_params
+
+from axisflow.faults.payloads import RawSender
+from axisflow.faults.rig import StatusWatch
+from axisflow.processes import wait_until
 
 P = default_params()
 KEYS = AxisKeys("a0")
@@ -38,7 +39,7 @@ def test_a_burst_of_bad_moves_is_taken_a_few_per_tick(port):
         sender = RawSender(other, live=True)
         for _ in range(40):
             sender.put(b"\x00\x01\x00\x00 not a move")
-        time.sleep(0.5)  # all 40 decoded (and refused) by the intake thread meanwhile
+        assert wait_until(lambda: bridge.moves_waiting == 40, 20.0)  # decoded (and refused) off the loop
         per_tick = []
         while bridge.report.moves_rejected < 40 and len(per_tick) < 100:
             before = bridge.report.moves_rejected
@@ -65,12 +66,16 @@ def test_a_dropped_queue_is_announced_a_few_statuses_per_tick(port):
                 x = x1
             assert wait_until(lambda: (bridge.step(), bridge.report.moves_accepted)[1] == 20, 10.0, 0.001)
             assert wait_until(lambda: watch.count(MoveState.ACCEPTED) == 20, 5.0)
-        time.sleep(0.3)  # the sender's token is gone
-        dropped = []
-        for _ in range(4):
+        # the tick that sees the sender's token gone drops its queue (and sends the first statuses)
+        assert wait_until(lambda: (bridge.step(), bridge.report.moves_dropped)[1] > 0, 10.0, 0.001)
+
+        def dropped_so_far() -> int:  # every status the bridge sent by now (a hello round trip)
+            return sum(s.state is MoveState.DROPPED for s in watch.settled())
+
+        dropped = [dropped_so_far()]
+        for _ in range(3):
             bridge.step()
-            time.sleep(0.2)
-            dropped.append(watch.count(MoveState.DROPPED))
+            dropped.append(dropped_so_far())
         watch.close()
     assert bridge.report.moves_dropped == 19  # in one tick: all but the running move
     assert dropped == [STATUSES_PER_TICK, 2 * STATUSES_PER_TICK, 19, 19]  # before: [19, 19, 19, 19]

@@ -5,17 +5,19 @@ client per role (each with its role's certificate)."""
 from __future__ import annotations
 
 import threading
-import time
 from contextlib import contextmanager
 
 import pytest
 import zenoh
 from axisflow.acquisition import AxisKeys, BridgeConfig, MoveCommand, MoveSender, MoveState, SimulatedAxis
 from axisflow.acquisition.bridge.bridge import run_bridge
+from axisflow.acquisition.bus.readiness import JoinedSubscriber
 from axisflow.acquisition.bus.session import open_session
 from axisflow.acquisition.drives.sim_axis import load_plant
 from axisflow.acquisition.wire.move_status import MoveStatus
 from axisflow.model import load_params
+
+from axisflow.processes import wait_until
 
 pytestmark = pytest.mark.slow
 
@@ -30,21 +32,24 @@ def _drain(sub) -> list:
     return out
 
 
-def _wait_until(predicate, timeout_s: float) -> bool:
-    deadline = time.monotonic() + timeout_s
-    while not predicate():
-        if time.monotonic() > deadline:
-            return False
-        time.sleep(0.01)
-    return True
+def _through_the_router(session: zenoh.Session, identity: str) -> None:
+    """A liveliness query round trip (each role may make one on the tokens it reads): once answered,
+    the router has processed whatever this session sent before it — a denied message was dropped, an
+    admitted one passed on. (A session sends its queued messages of a priority at least as high first:
+    the query goes at DATA priority, moves and puts at DATA or above.)"""
+    key = {"planner": KEYS.alive, "bridge": KEYS.senders}.get(identity.split("-")[0], "axisflow/**")
+    list(session.liveliness().get(key, timeout=10.0))
 
 
 class Watcher:
-    """A recorder-identity session subscribed to everything under the prefix (what a recorder gets)."""
+    """A recorder-identity session subscribed to everything under the prefix (what a recorder gets),
+    joined: once created, nothing the router passes on to it is missed."""
 
     def __init__(self, session: zenoh.Session) -> None:
         self.samples: list[zenoh.Sample] = []
-        self._sub = session.declare_subscriber("axisflow/**", zenoh.handlers.FifoChannel(100_000))
+        handler = lambda: zenoh.handlers.FifoChannel(100_000)  # noqa: E731
+        self._joined = JoinedSubscriber(session, "axisflow/**", handler).__enter__()
+        self._sub = self._joined.subscriber
         self._open = True
 
     def collect(self) -> list[zenoh.Sample]:
@@ -58,7 +63,7 @@ class Watcher:
     def close(self) -> None:
         self.collect()
         self._open = False
-        self._sub.undeclare()
+        self._joined.__exit__()
 
 
 @contextmanager
@@ -104,7 +109,7 @@ def test_the_planners_moves_reach_the_bridge_and_the_recorder_sees_everything(se
                 MoveState.ACCEPTED,
                 MoveState.COMPLETED,
             }
-        assert _wait_until(lambda: len(watcher.on(KEYS.event)) >= 6, 5.0)
+        assert wait_until(lambda: len(watcher.on(KEYS.event)) >= 6, 10.0)
     report = bridge["report"]
     assert (report.moves_accepted, report.moves_completed, report.moves_rejected) == (2, 2, 0)
     assert len(watcher.on(KEYS.trajectory)) == 2  # the recorder identity reads moves ...
@@ -127,11 +132,13 @@ def test_an_identity_other_than_the_planner_gets_no_move_to_the_bridge(secure, r
         assert good.wait_for_bridge(10.0)
         for _ in range(3):
             bad.send(0.0, 0.3, 0.8, move_id=666)
-        time.sleep(0.3)
-        good.send(0.0, 0.2, 0.6, move_id=1)
+        _through_the_router(intruder, identity)  # the router has refused them (or passed them on) ...
+        good.send(0.0, 0.2, 0.6, move_id=1)  # ... before it sees this one
         accepted = good.wait_status(1, {MoveState.ACCEPTED}, 10.0)
         assert accepted is not None and accepted.state is MoveState.ACCEPTED
-        time.sleep(0.5)
+        # the refusal, observed: move 1 reached the recorder identity, and 666, had it passed, would
+        # have reached it first (the router passes on in the order it takes them)
+        assert wait_until(lambda: watcher.on(KEYS.trajectory), 10.0)
         assert bad.poll_status() == []
     report = bridge["report"]
     assert (report.moves_accepted, report.moves_rejected, report.moves_missed) == (1, 0, 0)
@@ -162,41 +169,40 @@ PUTS = [
 def test_each_identity_puts_only_on_its_keys(secure, router):
     sessions = {name: open_session(secure.options(name)) for name in ("planner", "bridge", "recorder")}
     try:
-        with watching(secure) as watcher:
-            time.sleep(0.5)  # the watcher's subscription reaches the router and the publishers
+        with watching(secure) as watcher:  # joined: the router has its subscription
             for identity, key, _ in PUTS:
                 for _ in range(3):
                     sessions[identity].put(key, f"{identity}->{key}".encode())
-            expected = {f"{i}->{k}" for i, k, ok in PUTS if ok}
-            _wait_until(lambda: {s.payload.to_bytes().decode() for s in watcher.collect()} >= expected, 5.0)
-            time.sleep(0.5)  # anything denied would have arrived by now
-            got = {s.payload.to_bytes().decode() for s in watcher.collect()}
+            for identity, session in sessions.items():
+                _through_the_router(session, identity)  # each put refused or passed on by now ...
+            sessions["bridge"].put(KEYS.state, b"end")  # ... and this one passed on after them
+            assert wait_until(lambda: b"end" in {s.payload.to_bytes() for s in watcher.collect()}, 10.0)
+            got = {s.payload.to_bytes().decode() for s in watcher.collect()} - {"end"}
     finally:
         for session in sessions.values():
             session.close()
-    assert got == expected
+    assert got == {f"{i}->{k}" for i, k, ok in PUTS if ok}
 
 
 def test_a_quick_stop_reaches_a_bridge_identity_only_from_the_planner(secure, router):
     with open_session(secure.options("bridge")) as bridge_session:
-        stops = bridge_session.declare_subscriber(KEYS.stop, zenoh.handlers.FifoChannel(100))
-        try:
-            with (
-                open_session(secure.options("planner")) as planner,
-                open_session(secure.options("recorder")) as recorder,
-            ):
-                time.sleep(0.5)
-                recorder.put(KEYS.stop, b"recorder")
-                planner.put(KEYS.stop, b"planner")
-                got: list[bytes] = []
-                assert _wait_until(
-                    lambda: bool(got.extend(s.payload.to_bytes() for s in _drain(stops))) or got, 5.0
-                )
-                time.sleep(0.5)  # the recorder's, had it passed, would have arrived by now
-                got += [s.payload.to_bytes() for s in _drain(stops)]
-        finally:
-            stops.undeclare()
-    assert got == [b"planner"]
+        handler = lambda: zenoh.handlers.FifoChannel(100)  # noqa: E731
+        with (
+            JoinedSubscriber(bridge_session, KEYS.stop, handler) as stops,  # the router has it
+            open_session(secure.options("planner")) as planner,
+            open_session(secure.options("recorder")) as recorder,
+        ):
+            recorder.put(KEYS.stop, b"recorder")
+            _through_the_router(recorder, "recorder")  # refused (or passed on) by now ...
+            planner.put(KEYS.stop, b"planner")  # ... before the router takes this one
+            got: list[bytes] = []
+
+            def the_planners_came() -> bool:
+                got.extend(sample.payload.to_bytes() for sample in _drain(stops.subscriber))
+                return b"planner" in got
+
+            assert wait_until(the_planners_came, 10.0)
+    assert got == [b"planner"]  # the recorder's, had it passed, would have come first
 
 
 def test_a_peer_without_a_valid_certificate_gets_nothing(secure, other_ca, router, tmp_path):
@@ -240,7 +246,8 @@ def test_a_peer_without_a_valid_certificate_gets_nothing(secure, other_ca, route
                 name: s.declare_subscriber("axisflow/**", zenoh.handlers.FifoChannel(10_000))
                 for name, s in outsiders.items()
             }
-            time.sleep(1.5)
+            # the bridge publishes to the admitted control meanwhile: the outsiders had their chance
+            assert wait_until(lambda: len(control.on(KEYS.state)) > 100, 30.0)
             received = {name: len(_drain(sub)) for name, sub in subs.items()}
             linked = {
                 name: list(s.info.routers_zid()) + list(s.info.peers_zid()) for name, s in outsiders.items()
@@ -272,10 +279,10 @@ def test_the_commands_take_the_files_router_bridge_record(cli, tmp_path):
     secure = Secure(tmp_path / "sec", port)
     init_security(SecurityPlan(secure.directory, port=port, days=1))
     router = cli.start("router", "--zenoh-config", str(secure.config("router")))
-    assert "listening on" in router.stdout.readline()
+    assert wait_until(lambda: "listening on" in router.stdout_text(), 30.0)
     out = tmp_path / "session.mcap"
-    rec = cli.start("record", "-o", str(out), "--zenoh-config", str(secure.config("recorder")))
-    assert _wait_until(lambda: out.exists() and out.stat().st_size > 0, 30.0)
+    rec = cli.start("record", "-o", str(out), "--zenoh-config", str(secure.config("recorder")), ready=True)
+    cli.wait_ready(rec)  # joined: the router has its subscription
     bridge = cli.start(
         "bridge", "--sim", "--zenoh-config", str(secure.config("bridge")), "--duration", "60", "--json"
     )
@@ -286,18 +293,24 @@ def test_the_commands_take_the_files_router_bridge_record(cli, tmp_path):
         MoveSender(intruder, KEYS) as bad,
     ):
         assert sender.wait_for_bridge(30.0)
-        time.sleep(0.5)  # the recorder's subscription has reached the router (it opened its file first)
         bad.send(0.0, 0.3, 0.8, move_id=666)
+        _through_the_router(intruder, "recorder")  # refused (or passed on) before move 1 ...
         sender.send(0.0, 0.2, 0.6, move_id=1)
         done = sender.wait_status(1, {MoveState.COMPLETED}, 20.0)
         assert done is not None and done.state is MoveState.COMPLETED
         bad.send(0.2, 0.3, 0.8, move_id=667)
-        time.sleep(0.5)
+        _through_the_router(intruder, "recorder")  # ... and 667 before move 2
+        sender.send(0.2, 0.1, 0.6, move_id=2)
+        done = sender.wait_status(2, {MoveState.COMPLETED}, 20.0)
+        assert done is not None and done.state is MoveState.COMPLETED
+    # the recording holds move 2 (flushed every second) before the recorder stops: had 666 or 667
+    # passed the router, the recorder would have had them first
+    assert wait_until(lambda: cli.on_disk(out, "/axisflow/a0/trajectory") >= 2, 30.0)
     bridge.send_signal(signal.SIGINT)
     bridge_out, bridge_err = cli.finish(bridge)
     assert bridge.returncode == 0, bridge_err
     report = json.loads(bridge_out)
-    assert (report["moves_accepted"], report["moves_rejected"], report["moves_missed"]) == (1, 0, 0)
+    assert (report["moves_accepted"], report["moves_rejected"], report["moves_missed"]) == (2, 0, 0)
     rec.send_signal(signal.SIGINT)
     _rec_out, rec_err = cli.finish(rec)
     assert rec.returncode == 0, rec_err
@@ -308,5 +321,5 @@ def test_the_commands_take_the_files_router_bridge_record(cli, tmp_path):
     topics: dict[str, list[bytes]] = {}
     for m in iter_recording(out):
         topics.setdefault(m.channel.topic, []).append(m.message.data)
-    assert [MoveCommand.decode(data).move_id for data in topics["/axisflow/a0/trajectory"]] == [1]
+    assert [MoveCommand.decode(data).move_id for data in topics["/axisflow/a0/trajectory"]] == [1, 2]
     assert len(topics["/axisflow/a0/state"]) > 500

@@ -6,16 +6,17 @@ from __future__ import annotations
 
 import datetime as dt
 import json
-import time
 from pathlib import Path
 
 import json5
 import pytest
 import zenoh
 from axisflow.acquisition import AxisKeys, ZenohOptions, open_session
+from axisflow.acquisition.bus.readiness import JoinedSubscriber
 from axisflow.acquisition.bus.session import build_config
 from cryptography import x509
 
+from axisflow.processes import free_port, wait_until
 from axisflow.security import (
     SecurityArgumentError,
     SecurityError,
@@ -25,8 +26,6 @@ from axisflow.security import (
     init_security,
 )
 from axisflow.security import add as security_add
-
-from ..conftest import free_port
 
 KEYS = AxisKeys("a0")
 
@@ -179,25 +178,26 @@ def test_a_restarted_router_admits_the_added_identities_with_their_kinds_rights(
         open_session(options("planner-cell2")) as planner,
         open_session(options("recorder-laptop")) as recorder,
     ):
-        moves = bridge.declare_subscriber(KEYS.trajectory, zenoh.handlers.FifoChannel(100))
-        heard = recorder.declare_subscriber("axisflow/**", zenoh.handlers.FifoChannel(100))
-        try:
-            time.sleep(0.5)  # the subscriptions reach the router
-            planner.put(KEYS.trajectory, b"planner-cell2 move")
+        handler = lambda: zenoh.handlers.FifoChannel(100)  # noqa: E731
+        with (  # joined: the router has both subscriptions
+            JoinedSubscriber(bridge, KEYS.trajectory, handler) as moves,
+            JoinedSubscriber(recorder, "axisflow/**", handler) as heard,
+        ):
             recorder.put(KEYS.trajectory, b"recorder-laptop move")
+            # a liveliness query round trip (a recorder may make one): the router has refused that
+            # move (or passed it on) before it takes the planner's
+            list(recorder.liveliness().get("axisflow/**", timeout=10.0))
+            planner.put(KEYS.trajectory, b"planner-cell2 move")
             bridge.put(KEYS.state, b"bridge state")
             got_moves: list[bytes] = []
             got_heard: list[bytes] = []
-            deadline = time.monotonic() + 5.0
-            while time.monotonic() < deadline and not (got_moves and b"bridge state" in got_heard):
-                got_moves += _drain(moves)
-                got_heard += _drain(heard)
-                time.sleep(0.02)
-            time.sleep(0.5)  # a denied put, had it passed, would have arrived by now
-            got_moves += _drain(moves)
-            got_heard += _drain(heard)
-        finally:
-            moves.undeclare()
-            heard.undeclare()
-    assert got_moves == [b"planner-cell2 move"]  # the added recorder's move was denied at the router
-    assert b"bridge state" in got_heard  # (its own put it hears in-session: zenoh delivers that locally)
+
+            def both_came() -> bool:
+                got_moves.extend(_drain(moves.subscriber))
+                got_heard.extend(_drain(heard.subscriber))
+                return b"planner-cell2 move" in got_moves and b"bridge state" in got_heard
+
+            assert wait_until(both_came, 10.0)
+    # the added recorder's move was denied at the router: had it passed, it would have come first
+    assert got_moves == [b"planner-cell2 move"]
+    assert b"bridge state" in got_heard  # the added recorder hears the bridge's telemetry

@@ -6,7 +6,6 @@ import math
 import os
 import signal
 import subprocess
-import time
 from pathlib import Path
 
 import pytest
@@ -15,9 +14,8 @@ from axisflow.model import default_params
 
 
 def _record(cli, path: Path, endpoint: str):
-    rec = cli.start("record", "-o", str(path), "--connect", endpoint)
-    cli.wait_for_file(path)
-    time.sleep(1.0)  # its subscription reaches the bridge
+    rec = cli.start("record", "-o", str(path), "--connect", endpoint, ready=True)
+    cli.wait_ready(rec)  # joined: its routes from the bridge are proven
     return rec
 
 
@@ -31,7 +29,8 @@ def _stop(cli, proc) -> str:
 @pytest.mark.slow
 def test_excite_record_identify_recovers_the_plant_and_validates_on_planned_moves(cli, tmp_path, port):
     endpoint = f"tcp/127.0.0.1:{port}"
-    bridge = cli.start("bridge", "--sim", "--speed", "0", "--listen", endpoint)
+    bridge = cli.start("bridge", "--sim", "--speed", "0", "--listen", endpoint, ready=True)
+    cli.wait_ready(bridge)
     rec = _record(cli, tmp_path / "excite.mcap", endpoint)
     excite = cli.run("excite", "--connect", endpoint, "--json", timeout=300)
     assert excite.returncode == 0, excite.stderr

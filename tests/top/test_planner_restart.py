@@ -2,11 +2,13 @@
 planner, restarted, carries on from where the axis is (separate processes, as users run them)."""
 
 import signal
-import time
 
 import pytest
 import zenoh
 from axisflow.acquisition import AxisKeys, AxisSample, MoveState, MoveStatus, ZenohOptions, open_session
+from axisflow.acquisition.bus.readiness import JoinedSubscriber
+
+from axisflow.processes import wait_until
 
 KEYS = AxisKeys()
 
@@ -16,22 +18,25 @@ def test_a_killed_planner_leaves_the_axis_at_rest_and_a_restart_carries_on(cli, 
     points = tmp_path / "points.txt"
     points.write_text("0.1\n0.7\n0.2\n0.6\n0.3\n")
     endpoint = f"tcp/127.0.0.1:{port}"
-    bridge = cli.start("bridge", "--sim", "--speed", "2", "--listen", endpoint, "--json")
+    bridge = cli.start("bridge", "--sim", "--speed", "2", "--listen", endpoint, "--json", ready=True)
+    cli.wait_ready(bridge)
     planner_args = ("planner", "--waypoints", str(points), "--case", "min-time-energy", "--connect", endpoint)
-    with open_session(ZenohOptions.loopback(connect_port=port)) as watch:
-        events = watch.declare_subscriber(KEYS.event, zenoh.handlers.FifoChannel(10_000))
+    handler = lambda: zenoh.handlers.FifoChannel(10_000)  # noqa: E731
+    with (
+        open_session(ZenohOptions.loopback(connect_port=port)) as watch,
+        JoinedSubscriber(watch, KEYS.event, handler) as events,  # misses no status
+    ):
         setpoints = watch.declare_subscriber(KEYS.setpoint, zenoh.handlers.RingChannel(1))
         statuses: list[MoveStatus] = []
 
         def wait_for(state, count, timeout_s=60.0):
-            deadline = time.monotonic() + timeout_s
-            while time.monotonic() < deadline:
-                while (s := events.try_recv()) is not None:
+            def seen() -> bool:
+                while (s := events.subscriber.try_recv()) is not None:
                     statuses.append(MoveStatus.decode(s.payload.to_bytes()))
-                if sum(st.state is state for st in statuses) >= count:
-                    return
-                time.sleep(0.02)
-            pytest.fail(f"fewer than {count} {state.name} statuses in {timeout_s} s: {statuses}")
+                return sum(st.state is state for st in statuses) >= count
+
+            if not wait_until(seen, timeout_s):
+                pytest.fail(f"fewer than {count} {state.name} statuses in {timeout_s} s: {statuses}")
 
         first = cli.start(*planner_args)
         # the move to 0.1 m, the moves to 0.7 and 0.2 m, and — once 0.7 → 0.2 runs — the one to 0.6 m
@@ -40,16 +45,22 @@ def test_a_killed_planner_leaves_the_axis_at_rest_and_a_restart_carries_on(cli, 
         first.wait(10)
         wait_for(MoveState.DROPPED, 1)  # its queued moves go with it ...
         wait_for(MoveState.COMPLETED, 3)  # ... while the running one ends, at rest
-        time.sleep(0.5)
-        rest = AxisSample.decode(setpoints.try_recv().payload.to_bytes())
+        completed = [st for st in statuses if st.state is MoveState.COMPLETED]
+        latest: list[AxisSample] = []
+
+        def a_setpoint_after_the_last_completion() -> bool:
+            if (sample := setpoints.try_recv()) is not None:
+                latest[:] = [AxisSample.decode(sample.payload.to_bytes())]
+            return bool(latest) and latest[0].stamp_ns >= completed[-1].stamp_ns
+
+        assert wait_until(a_setpoint_after_the_last_completion, 10.0)
+        rest = latest[0]
         assert rest.velocity_m_s == 0.0
         stopped_at = rest.position_m
-        completed = [st for st in statuses if st.state is MoveState.COMPLETED]
         assert stopped_at == pytest.approx(0.2)  # 0.1 → 0.7 → 0.2 ran; 0.2 → 0.6 was dropped
 
         restart = cli.run(*planner_args, "--json", timeout=120)
         assert restart.returncode == 0, restart.stderr
-        events.undeclare()
         setpoints.undeclare()
     bridge.send_signal(signal.SIGINT)
     out, err = cli.finish(bridge)

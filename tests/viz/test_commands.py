@@ -7,7 +7,6 @@ import os
 import re
 import shutil
 import signal
-import time
 
 import pytest
 from axisflow.acquisition.logs.mcap_writer import Ros2McapWriter
@@ -47,12 +46,10 @@ def _listening_on(port: int) -> list[str]:
 
 
 @pytest.mark.skipif(not os.path.exists("/proc/net/tcp"), reason="reads the Linux socket table")
-def test_serve_binds_the_web_viewer_to_loopback_and_stops_it(cli, test_log):
+def test_serve_binds_the_web_viewer_to_loopback_and_stops_it(cli, test_log, eventually):
     proc = cli.start("view", str(test_log.path), "--serve")
-    line = ""
-    deadline = time.monotonic() + 60
-    while "serving the view at" not in line and time.monotonic() < deadline:
-        line = proc.stdout.readline()
+    eventually(lambda: "serving the view at" in proc.stdout_text(), 60, "the view serving its URL")
+    line = proc.stdout_text()
     match = re.search(r"http://127\.0\.0\.1:(\d+)/\?url=rerun%2Bhttp%3A%2F%2F127\.0\.0\.1%3A(\d+)", line)
     assert match, line
     web, grpc = int(match[1]), int(match[2])
@@ -61,10 +58,8 @@ def test_serve_binds_the_web_viewer_to_loopback_and_stops_it(cli, test_log):
     proc.send_signal(signal.SIGINT)
     cli.finish(proc)
     assert proc.returncode == 0
-    deadline = time.monotonic() + 10
-    while (_listening_on(web) or _listening_on(grpc)) and time.monotonic() < deadline:
-        time.sleep(0.1)
-    assert not _listening_on(web) and not _listening_on(grpc)  # the server stopped with the command
+    # the server stopped with the command
+    eventually(lambda: not _listening_on(web) and not _listening_on(grpc), 10, "the ports closing")
 
 
 def _bad_view_inputs(tmp_path, test_log, no_axis_log):

@@ -20,14 +20,16 @@ from axisflow.model import EXECUTION_PERIOD_S, EnergyAccounting, default_params,
 from axisflow.viz.live_view import LiveView
 from axisflow.viz.outputs import RerunOutput, ViewOutput
 
-from ..conftest import free_port
+from axisflow.processes import free_port, wait_until
 
 
 def test_a_live_view_of_a_bridge_holds_every_published_sample(cli, tmp_path, rrd_reader):
     port = cli.free_port()
     out = tmp_path / "live.rrd"
-    view = cli.start("view", "--live", "-o", str(out), "--listen", f"tcp/127.0.0.1:{port}", "--json")
-    time.sleep(1.0)  # the view's session listens
+    view = cli.start(
+        "view", "--live", "-o", str(out), "--listen", f"tcp/127.0.0.1:{port}", "--json", ready=True
+    )
+    cli.wait_ready(view)  # its subscriber has joined
     bridge = cli.run(
         "bridge",
         "--sim",
@@ -42,7 +44,8 @@ def test_a_live_view_of_a_bridge_holds_every_published_sample(cli, tmp_path, rrd
     )
     assert bridge.returncode == 0, bridge.stderr
     ticks = json.loads(bridge.stdout)["ticks"]
-    time.sleep(0.5)  # the last samples reach the view
+    # the bridge has exited: Zenoh delivered its last samples to the view before its session's close;
+    # the view's stop (a hello, then draining its channel) takes them all
     view.send_signal(signal.SIGINT)  # Ctrl-C: a clean stop
     stdout, stderr = cli.finish(view)
     assert view.returncode == 0, stderr
@@ -123,7 +126,7 @@ def test_every_record_kind_reaches_the_view(tmp_path, rrd_reader):
                 t0 + 500_000_000, "x1", MoveState.COMPLETED, 7, 500, 100, 500, sender, "completed"
             ).encode()
         )
-        time.sleep(0.5)
+        assert wait_until(lambda: view.report.received == 1 + 2 + 2000, 10.0)
         stop.set()
         thread.join(10)
         for pub in pubs.values():

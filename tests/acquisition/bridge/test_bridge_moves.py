@@ -25,8 +25,11 @@ from axisflow.acquisition import (
     open_session,
     run_bridge,
 )
-from axisflow.acquisition.bus.publisher import SequencedPublisher, Traffic
+from axisflow.acquisition.bus.publisher import SequencedPublisher, Traffic, wait_for_subscribers
+from axisflow.acquisition.bus.readiness import JoinedSubscriber
 from axisflow.model import AxisParams
+
+from axisflow.processes import wait_until
 
 PARAMS = AxisParams(
     m=20.0, J_m=1.5e-4, J_g=5e-5, J_p=2e-4, r=0.03, i_r=10.0, L=0.8,
@@ -57,8 +60,11 @@ class _Bridge:
         self._bridge_session = open_session(ZenohOptions.loopback(listen_port=self.port))
         self._observer = open_session(ZenohOptions.loopback(connect_port=self.port))
         self._state = self._observer.declare_subscriber(KEYS.state, zenoh.handlers.RingChannel(1))
-        self.setpoints = self._observer.declare_subscriber(KEYS.setpoint, zenoh.handlers.FifoChannel(20_000))
-        self.events = self._observer.declare_subscriber(KEYS.event, zenoh.handlers.FifoChannel(100))
+        self._joined = [  # joined: they miss nothing the bridge publishes
+            JoinedSubscriber(self._observer, key, lambda n=n: zenoh.handlers.FifoChannel(n)).__enter__()
+            for key, n in ((KEYS.setpoint, 20_000), (KEYS.event, 100))
+        ]
+        self.setpoints, self.events = (j.subscriber for j in self._joined)
         self._thread = threading.Thread(target=self._run)
         self._thread.start()
         return self
@@ -70,14 +76,15 @@ class _Bridge:
         self.statuses += [MoveStatus.decode(s.payload.to_bytes()) for s in _drain(self.events)]
 
     def wait_status(self, move_id: int, state: MoveState, timeout_s: float = 20.0) -> MoveStatus:
-        deadline = time.monotonic() + timeout_s
-        while time.monotonic() < deadline:
+        def hits() -> list[MoveStatus]:
             self._collect()
-            hits = [s for s in self.statuses if s.move_id == move_id and s.state is state]
-            if hits:
-                return hits[0]
-            time.sleep(0.01)
-        pytest.fail(f"no {state.name} status of move {move_id} within {timeout_s} s; got: {self.statuses}")
+            return [s for s in self.statuses if s.move_id == move_id and s.state is state]
+
+        if not wait_until(hits, timeout_s):
+            pytest.fail(
+                f"no {state.name} status of move {move_id} within {timeout_s} s; got: {self.statuses}"
+            )
+        return hits()[0]
 
     def of(self, state: MoveState) -> list[MoveStatus]:
         return [s for s in self.statuses if s.state is state]
@@ -89,8 +96,9 @@ class _Bridge:
         return [AxisSample.decode(s.payload.to_bytes()) for s in _drain(self.setpoints)]
 
     def __exit__(self, *_exc):
-        for sub in (self._state, self.setpoints, self.events):
-            sub.undeclare()
+        self._state.undeclare()
+        for joined in self._joined:
+            joined.__exit__()
         self._observer.close()
         self._thread.join(timeout=30)
         self._bridge_session.close()
@@ -172,9 +180,7 @@ def test_moves_of_a_publisher_without_a_sender_token_are_refused(port):
     with _Bridge(port, duration_s=4.0) as bridge:
         with open_session(ZenohOptions.loopback(connect_port=port)) as other:
             pub = SequencedPublisher(other, KEYS.trajectory, MOVE_TYPE, Traffic.COMMAND)
-            deadline = time.monotonic() + 10.0
-            while not pub.has_subscribers and time.monotonic() < deadline:
-                time.sleep(0.01)
+            assert wait_for_subscribers([pub], 10.0)  # the bridge's move subscriber
             pub.put(MoveCommand(time.time_ns(), "a0", 7, 0, "poly5", 0.0, 0.1, 0.5).encode())
             status = bridge.wait_status(7, MoveState.REJECTED)
             pub.undeclare()
@@ -187,8 +193,8 @@ def test_moves_of_a_publisher_without_a_sender_token_are_refused(port):
 def test_sender_finds_the_bridge_through_the_recorder_by_gossip(cli, tmp_path, port):
     """Recorder listens; bridge and sender only connect to it and must find each other."""
     out = tmp_path / "moves.mcap"
-    rec = cli.start("record", "-o", str(out), "--listen", f"tcp/127.0.0.1:{port}")
-    cli.wait_for_file(out)
+    rec = cli.start("record", "-o", str(out), "--listen", f"tcp/127.0.0.1:{port}", ready=True)
+    cli.wait_ready(rec)
     # a long duration: the bridge must not exit before a loaded machine lets the sender find it;
     # it is stopped with SIGINT once the move is done
     bridge = cli.start("bridge", "--sim", "--connect", f"tcp/127.0.0.1:{port}", "--duration", "120", "--json")
@@ -197,8 +203,9 @@ def test_sender_finds_the_bridge_through_the_recorder_by_gossip(cli, tmp_path, p
         MoveSender(planner, AxisKeys()) as sender,
     ):
         assert sender.wait_for_bridge(30.0)
-        sender.send(0.0, 0.2, 0.6)
-        time.sleep(2.0)  # the 0.6 s move runs to its end
+        cmd = sender.send(0.0, 0.2, 0.6)
+        done = sender.wait_status(cmd.move_id, {MoveState.COMPLETED}, 30.0)
+        assert done is not None and done.state is MoveState.COMPLETED, sender.statuses
     bridge.send_signal(signal.SIGINT)
     bridge_out, bridge_err = cli.finish(bridge)
     rec.send_signal(signal.SIGINT)
@@ -220,11 +227,12 @@ def test_a_test_can_drive_the_bridge_tick_by_tick(port):
         _live_sender(port) as sender,
     ):
         cmd = sender.send(0.0, 0.25, 0.6, law="poly7")
-        deadline = time.monotonic() + 20.0
-        while bridge.report.moves_accepted == 0:  # the intake validates on its own thread
-            assert time.monotonic() < deadline, bridge.report
-            bridge.step()
-            time.sleep(0.001)
+
+        def accepted_yet() -> bool:
+            bridge.step()  # the intake validates on its own thread; a tick takes what it has
+            return bridge.report.moves_accepted > 0
+
+        assert wait_until(accepted_yet, 20.0, 0.001), bridge.report
         accepted = sender.wait_status(cmd.move_id, {MoveState.ACCEPTED}, 10.0)
         # the queue was empty: the move starts on the tick that accepted it
         assert accepted is not None and accepted.start_tick == accepted.tick == bridge.tick - 1

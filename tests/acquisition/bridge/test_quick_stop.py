@@ -1,8 +1,6 @@
 """The quick stop: the bridge abandons its queue and brakes the running move to rest within the torque
 limit, inside the stroke, then holds; distance and time against the axis's physical minimum."""
 
-import time
-
 import numpy as np
 import pytest
 from axisflow.acquisition import (
@@ -21,6 +19,8 @@ from axisflow.model import default_params, stop_profile
 from axisflow.planner import Case, MoveProblem, solve_exact
 from axisflow.planner.reference_laws import _Phases
 
+from axisflow.processes import wait_until
+
 P = default_params()
 T0 = 1_700_000_000_000_000_000
 
@@ -38,18 +38,20 @@ def test_the_stop_profile_is_the_full_force_braking_of_the_reference_laws():
     assert margin.distance_m > stop_profile(0.4, 1.5, P).distance_m
 
 
-def _step_until(bridge, sender, move_id, state, trace=None, limit=20_000):
-    for _ in range(limit):
+def _step_until(bridge, sender, move_id, state, trace=None, timeout_s=20.0):
+    """Step the bridge until the sender has the status; ``trace`` gets the plant's (x, v) after each
+    tick."""
+
+    def got() -> list:
         bridge.step()
         if trace is not None:
             trace[bridge.tick - 1] = (bridge.drive.position_m, bridge.drive.velocity_m_s)
-        got = [
-            s for s in sender.poll_status() or sender.statuses if s.move_id == move_id and s.state is state
-        ]
-        if got:
-            return got[0]
-        time.sleep(0.0002)
-    pytest.fail(f"no {state.name} of move {move_id}: {sender.statuses}")
+        sender.poll_status()
+        return [s for s in sender.statuses if s.move_id == move_id and s.state is state]
+
+    if not wait_until(got, timeout_s, 0.0002):
+        pytest.fail(f"no {state.name} of move {move_id}: {sender.statuses}")
+    return next(s for s in sender.statuses if s.move_id == move_id and s.state is state)
 
 
 def test_a_fast_move_is_braked_to_rest_and_the_queue_dropped(port):
@@ -69,8 +71,10 @@ def test_a_fast_move_is_braked_to_rest_and_the_queue_dropped(port):
         accepted = _step_until(bridge, sender, second.move_id, MoveState.ACCEPTED)
         while bridge.tick < accepted.start_tick - round(fastest_move * 1000 * 0.6):  # before the top speed
             bridge.step()
+        # the plant's (x, v) after each tick, from the last one before the stop is sent (the bridge
+        # may take the request on the very next tick)
+        trace = {bridge.tick - 1: (drive.position_m, drive.velocity_m_s)}
         sender.stop("test")
-        trace: dict[int, tuple[float, float]] = {}  # the plant's (x, v) after each tick
         stopped = _step_until(bridge, sender, STOP_MOVE_ID, MoveState.STOPPED, trace)
         x_stop, v_stop = trace[stopped.start_tick - 1]  # where the plant was when braking began
         for _ in range(500):  # hold

@@ -2,17 +2,25 @@
 encoding, a failing disk is a RecordingError (not a traceback), an empty session says why."""
 
 import os
+import socket
 import threading
-import time
 from pathlib import Path
 
 import pytest
 from axisflow.acquisition import Recorder, RecorderConfig, RecordingError, ZenohOptions, open_session
+from axisflow.acquisition.bus.readiness import wait_for_token
+from axisflow.acquisition.wire.keys import recorder_token
 from mcap.reader import make_reader
 
+from axisflow.processes import wait_until
 
-def _record_while(port: int, config: RecorderConfig, publish) -> tuple[object, BaseException | None]:
-    """Run a recorder on its own thread, call ``publish(session)`` from a second session, stop it."""
+
+def _record_while(
+    port: int, config: RecorderConfig, publish, expect: int = 0
+) -> tuple[object, BaseException | None]:
+    """Run a recorder on its own thread; once it is ready and a second session knows its subscriber
+    (its token), call ``publish(session)`` there; stop it once it has written ``expect`` messages (or
+    failed)."""
     stop = threading.Event()
     recorder = Recorder(config)
     out: dict[str, object] = {}
@@ -30,9 +38,9 @@ def _record_while(port: int, config: RecorderConfig, publish) -> tuple[object, B
         thread = threading.Thread(target=run, args=(rec_session,))
         thread.start()
         assert recorder.ready.wait(10.0)
-        time.sleep(0.3)  # the subscription reaches the other session
+        assert wait_for_token(pub_session, recorder_token(socket.gethostname(), os.getpid()), 10.0)
         publish(pub_session)
-        time.sleep(0.3)
+        assert wait_until(lambda: recorder.summary.messages >= expect or "error" in out, 10.0)
         stop.set()
         thread.join(timeout=30)
     return out.get("summary"), out.get("error")
@@ -45,7 +53,7 @@ def test_payloads_that_are_not_cdr_keep_their_encoding(tmp_path, port):
         session.put("axisflow/a0/note", "hello")
         session.put("axisflow/a0/config", '{"a": 1}', encoding="application/json")
 
-    summary, error = _record_while(port, RecorderConfig(output=path), publish)
+    summary, error = _record_while(port, RecorderConfig(output=path), publish, expect=2)
     assert error is None
     assert summary.messages == 2
     with open(path, "rb") as fh:
@@ -65,7 +73,7 @@ def test_a_full_disk_is_a_recording_error_naming_the_file(tmp_path, port):
             session.put(f"axisflow/a0/x{k % 3}", bytes(2000))
 
     config = RecorderConfig(output=path, overwrite=True, flush_interval_s=0.05)
-    _summary, error = _record_while(port, config, publish)
+    _summary, error = _record_while(port, config, publish, expect=100)
     assert isinstance(error, RecordingError)
     assert f"writing {path} failed: No space left on device" in str(error)
 

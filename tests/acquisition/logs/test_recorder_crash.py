@@ -8,18 +8,25 @@ import numpy as np
 import pytest
 from axisflow.acquisition import is_complete, iter_recording
 
+from axisflow.processes import wait_until
+
 STATE = "/axisflow/a0/state"
 
 
 def _start_pipeline(cli, out: Path, *record_args: str):
+    """A recorder, ready (joined), then a 4 s bridge at 1× real time connected to it."""
     port = cli.free_port()
-    rec = cli.start("record", "-o", str(out), "--listen", f"tcp/127.0.0.1:{port}", *record_args)
-    split = any(a.startswith("--split") for a in record_args)
-    cli.wait_for_file(out.with_name(f"{out.stem}_0000.mcap") if split else out)
+    rec = cli.start("record", "-o", str(out), "--listen", f"tcp/127.0.0.1:{port}", *record_args, ready=True)
+    cli.wait_ready(rec)
     bridge = cli.start(
         "bridge", "--sim", "--connect", f"tcp/127.0.0.1:{port}", "--duration", "4", "--wait-subscribers", "10"
     )
     return rec, bridge
+
+
+def _on_disk(cli, paths: list[Path]) -> int:
+    """State samples flushed to ``paths`` so far."""
+    return sum(cli.on_disk(p, STATE) for p in paths)
 
 
 def _state_sequences(path: Path) -> np.ndarray:
@@ -30,7 +37,8 @@ def _state_sequences(path: Path) -> np.ndarray:
 def test_sigint_sigterm_finish_the_file_and_lose_nothing(cli, tmp_path, sig):
     out = tmp_path / "run.mcap"
     rec, bridge = _start_pipeline(cli, out)
-    time.sleep(2.5)  # mid-run: the bridge is still publishing
+    assert wait_until(lambda: _on_disk(cli, [out]) > 500, 30.0)  # flushed every second
+    assert bridge.poll() is None  # mid-run: the bridge is still publishing
     rec.send_signal(sig)
     rec_out, rec_err = cli.finish(rec)
     cli.finish(bridge)
@@ -50,7 +58,8 @@ def test_sigkill_loses_at_most_a_second_and_recover_rebuilds_the_file(cli, tmp_p
 
     out = tmp_path / "run.mcap"
     rec, bridge = _start_pipeline(cli, out)
-    time.sleep(3.0)
+    assert wait_until(lambda: _on_disk(cli, [out]) > 1000, 30.0)  # two flushes and more
+    assert bridge.poll() is None  # mid-run
     killed_ns = time.time_ns()
     rec.send_signal(signal.SIGKILL)
     cli.finish(rec)
@@ -79,7 +88,8 @@ def test_split_gives_complete_consecutive_files(cli, tmp_path, split):
     out = tmp_path / "run.mcap"
     rec, bridge = _start_pipeline(cli, out, *split)
     cli.finish(bridge)
-    time.sleep(0.3)
+    # every tick the bridge published is flushed to the split files (each second)
+    assert wait_until(lambda: _on_disk(cli, sorted(tmp_path.glob("run_*.mcap"))) == 4000, 30.0)
     rec.send_signal(signal.SIGINT)
     cli.finish(rec)
     files = sorted(tmp_path.glob("run_*.mcap"))

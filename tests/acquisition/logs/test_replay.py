@@ -16,6 +16,8 @@ from axisflow.acquisition import (
 from axisflow.acquisition.logs.mcap_writer import Ros2McapWriter
 from axisflow.acquisition.logs.replay import replay
 
+from axisflow.processes import wait_until
+
 T0 = 1_700_000_000_000_000_000
 MS = 1_000_000
 
@@ -62,7 +64,7 @@ def test_replay_keeps_the_publish_pace_filters_keys_and_skips_moves(recording, p
         listener.declare_subscriber("axisflow/**", got := _Arrivals()),
     ):
         report = replay(player, recording, speed=1.0, wait_subscribers_s=10.0, keys="axisflow/*/state")
-        time.sleep(0.2)
+        assert wait_until(lambda: len(got) >= 200, 10.0)
     assert (report.messages, report.skipped_moves, report.skipped_keys) == (200, 2, 200)
     assert "skipped 2 moves (commands to a drive are never replayed)" in report.format()
     assert {key for key, _t in got} == {"axisflow/a0/state"}
@@ -82,8 +84,13 @@ def test_replay_as_fast_as_possible_waits_for_a_subscriber_first(recording, port
         assert early.messages == 400  # nobody subscribed: published anyway after the wait, lost
         with listener.declare_subscriber("axisflow/**", zenoh.handlers.FifoChannel(10_000)) as sub:
             report = replay(player, recording, speed=0.0, wait_subscribers_s=10.0)
-            time.sleep(0.2)
-            got = _received(sub)
+            got: list = []
+
+            def all_there() -> bool:
+                got.extend(_received(sub))
+                return len(got) >= 400
+
+            assert wait_until(all_there, 10.0)
     assert report.messages == 400 and report.skipped_moves == 2
     assert len(got) == 400
 

@@ -289,3 +289,20 @@ def test_drive_info_round_trip_and_reference_codec():
     assert ref.header.stamp.sec * 10**9 + ref.header.stamp.nanosec == info.stamp_ns
     assert info.describe() == "simulated axis, plant realistic (packaged plant_realistic.toml)"
     assert DriveInfo(0, "a0", "acme servo X1").describe() == "acme servo X1"
+
+
+def test_a_hello_round_trips_and_refuses_what_is_not_one():
+    from axisflow.acquisition.wire.hello import Hello
+
+    hello = Hello("axisflow/a0/state", "ab" * 16, "0123456789abcdef", "host-1", 4242)
+    assert Hello.decode(hello.encode()) == hello
+    assert hello.where == "pid 4242 on host host-1 (Zenoh id 0123456789abcdef)"
+    for bad, says in (
+        (b"not json", "undecodable hello"),
+        (b"[1, 2]", "undecodable hello"),
+        (b'{"key": "k"}', "undecodable hello"),
+        (hello.encode().replace(b"4242", b"-1"), "pid = -1"),
+        (hello.encode().replace(b'"host-1"', b"7"), "host = 7"),
+    ):
+        with pytest.raises(WireError, match=says):
+            Hello.decode(bad)
