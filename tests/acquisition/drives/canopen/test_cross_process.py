@@ -96,9 +96,9 @@ def test_inside_the_namespace(tmp_path, cli, port):
         assert again is not None and again.state is MoveState.COMPLETED, again
         events.undeclare()
     bridge.send_signal(signal.SIGINT)
-    out, err = bridge.communicate(timeout=60)
+    out, err = cli.finish(bridge, 60)
     assert bridge.returncode == 0, err
     assert '"drive_faults": 1' in out and '"moves_completed": 2' in out, out
     drive.send_signal(signal.SIGINT)
-    drive_out, _ = drive.communicate(timeout=30)
+    drive_out, _ = cli.finish(drive, 30)
     assert drive.returncode == 0 and "state switch on disabled" in drive_out  # the bridge switched it off
