@@ -39,7 +39,7 @@ def test_a_starting_bridge_says_what_it_runs_in_one_line(cli, port):
     for fragment in (
         "axisflow bridge: axis x7",
         f"listening on tcp/127.0.0.1:{port}",
-        "simulated drive, 1 kHz at 1× real time for 0.1 s of drive time",
+        "simulated axis, plant ideal (packaged plant_ideal.toml), 1 kHz at 1× real time for 0.1 s",
         "stop it with Ctrl-C or kill -TERM",
     ):
         assert fragment in line, line
