@@ -105,10 +105,11 @@ def stop_profile(
         vs.append(max(v + dv, 0.0))
         xs.append(x + dx)
         ts.append(ts[-1] + h)
-    t = np.array(ts)
-    x = x0_m + direction * np.array(xs)
-    vel = direction * np.array(vs)
-    a = np.array([*(direction * k for k in accs), 0.0])  # at rest the drive holds: no braking force
-    if len(t) == 1:  # at rest already: a single tick of rest
-        t, x, vel, a = np.array([0.0, dt]), np.array([x0_m, x0_m]), np.zeros(2), np.zeros(2)
-    return StopProfile(SampledTrajectory(t, x, vel, a, from_rest=False), float(xs[-1]), float(t[-1]))
+    t_s = np.array(ts)
+    x_m = x0_m + direction * np.array(xs)
+    v_m_s = direction * np.array(vs)
+    a_m_s2 = np.array([*(direction * k for k in accs), 0.0])  # at rest the drive holds: no braking force
+    if len(t_s) == 1:  # at rest already: a single tick of rest
+        t_s, x_m, v_m_s, a_m_s2 = np.array([0.0, dt]), np.array([x0_m, x0_m]), np.zeros(2), np.zeros(2)
+    path = SampledTrajectory(t_s, x_m, v_m_s, a_m_s2, from_rest=False)
+    return StopProfile(path, float(xs[-1]), float(t_s[-1]))

@@ -284,15 +284,15 @@ def signals_held() -> Iterator[None]:
     previous = {s: signal.getsignal(s) for s in _HELD_SIGNALS}
     restorable = {s: h for s, h in previous.items() if h is not None}
     noted: list[int] = []
-    for s in restorable:
-        signal.signal(s, lambda signum, _frame: noted.append(signum))
+    for sig in restorable:
+        signal.signal(sig, lambda signum, _frame: noted.append(signum))
     try:
         yield
     finally:
-        for s, h in restorable.items():
-            signal.signal(s, h)
-        for s in noted:
-            signal.raise_signal(s)
+        for sig, handler in restorable.items():
+            signal.signal(sig, handler)
+        for signum in noted:
+            signal.raise_signal(signum)
 
 
 def _write_part(part: Path, data: str | bytes) -> None:

@@ -32,12 +32,17 @@ FRICTION_PARAMETERS: tuple[str, ...] = ("a1", "a2", "a3", "a4")
 
 
 class FrictionParams(Protocol):
-    """Anything that carries a1…a4 (an :class:`~axisflow.model.params.AxisParams`, a fit's iterate)."""
+    """Anything that carries a1…a4 (an :class:`~axisflow.model.params.AxisParams`, a fit's iterate),
+    read-only."""
 
-    a1: Any
-    a2: Any
-    a3: Any
-    a4: Any
+    @property
+    def a1(self) -> Any: ...
+    @property
+    def a2(self) -> Any: ...
+    @property
+    def a3(self) -> Any: ...
+    @property
+    def a4(self) -> Any: ...
 
 
 def friction_expression(

@@ -113,7 +113,7 @@ def _build(
             power = ca.fabs(power)
         energy = T * ca.dot(ca.DM(_simpson_weights(settings.nodes)), power)
         f = omega * T + (1 - omega) * energy
-    opts = {
+    opts: dict[str, bool | int | float | str] = {
         "print_time": False,
         "ipopt.print_level": 0,
         "ipopt.sb": "yes",

@@ -36,28 +36,45 @@ DEFAULT_W0 = 100.0
 10 iterations on the default axis (measured: ~9 iterations; with 1 most solves stop at the cap)"""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class MoveProblem:
-    """One move to plan: end points [m], law, case, weight ω and duration bounds [s]."""
+    """One move to plan: end points [m], law, case, weight ω and duration bounds [s] (given as None:
+    the case's bounds, :data:`DEFAULT_TIME_BOUNDS_S`)."""
 
     x0_m: float
     x1_m: float
     law: PolynomialLaw
-    case: Case = Case.MIN_TIME
-    omega: float = DEFAULT_OMEGA
-    t_min_s: float | None = None
-    t_max_s: float | None = None
-    w0: float = DEFAULT_W0
+    case: Case
+    omega: float
+    t_min_s: float
+    t_max_s: float
+    w0: float
 
-    def __post_init__(self) -> None:
-        if isinstance(self.law, str):
-            object.__setattr__(self, "law", polynomial_law(self.law))
-        object.__setattr__(self, "case", Case(self.case))
-        lo, hi = DEFAULT_TIME_BOUNDS_S[self.case]
-        if self.t_min_s is None:
-            object.__setattr__(self, "t_min_s", lo)
-        if self.t_max_s is None:
-            object.__setattr__(self, "t_max_s", hi)
+    def __init__(
+        self,
+        x0_m: float,
+        x1_m: float,
+        law: PolynomialLaw | str,
+        case: Case | str = Case.MIN_TIME,
+        omega: float = DEFAULT_OMEGA,
+        t_min_s: float | None = None,
+        t_max_s: float | None = None,
+        w0: float = DEFAULT_W0,
+    ) -> None:
+        case = Case(case)
+        lo, hi = DEFAULT_TIME_BOUNDS_S[case]
+        given = {
+            "x0_m": x0_m,
+            "x1_m": x1_m,
+            "law": polynomial_law(law) if isinstance(law, str) else law,
+            "case": case,
+            "omega": omega,
+            "t_min_s": lo if t_min_s is None else t_min_s,
+            "t_max_s": hi if t_max_s is None else t_max_s,
+            "w0": w0,
+        }
+        for name, value in given.items():
+            object.__setattr__(self, name, value)
         for name, unit in (
             ("x0_m", "m"),
             ("x1_m", "m"),

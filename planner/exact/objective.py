@@ -107,9 +107,10 @@ class _SecantSearch:
     def run(self, guess: StartGuess | None) -> SlopeRoot:
         x = min(self.t_s * (1.0 + 1e-3), self.t_max)
         if guess is not None and self.t_s <= guess.t0_s < self.t_max and guess.curvature > 0.0:
-            x = self._newton_from(guess)
-            if x is None:
+            step = self._newton_from(guess)
+            if step is None:
                 return SlopeRoot(guess.t0_s, guess.t0_s, 0.0, False)
+            x = step
         gx = self.g_prev
         for it in range(NEWTON_MAX_STEPS):
             if self.deadline is not None:

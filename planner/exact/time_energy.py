@@ -53,6 +53,7 @@ def solve_time_energy(
         sol = _BrakingSearch(problem, params, limit.model, D, beta, deadline).solve(t_s, active)
     if t_infeasible is not None and sol.duration_s == t_s:
         # a limit decides: shorter durations are proved out
+        assert isinstance(sol.certificate, TimeEnergyCertificate)  # what both answers above give
         proof = dataclasses.replace(sol.certificate, t_infeasible_s=t_infeasible)
         sol = dataclasses.replace(sol, certificate=proof)
     return sol
