@@ -4,7 +4,7 @@ Each case must end with exit code 2 and exactly one error line on stderr that na
 where there is one, the limit and its unit); no traceback, nothing on stdout, and the output it
 would have written absent or unchanged — errors found by argparse (a value that is not a number, an
 unknown choice) too: the command line turns them into one line (axisflow/cli/__init__.py). The same
-list, with the messages, is in docs/trust.md.
+list is docs/refusals.md, generated from this one (:func:`refusals_page`).
 
 Beyond the line, every case checks that the input folder is byte for byte what it was and that the
 working folder holds exactly what it held: nothing written, no stray temporary (``.part``) file.
@@ -1475,3 +1475,42 @@ def test_the_planner_with_tiny_way_points_ends_within_2_s_of_a_signal(cli, tmp_p
     assert elapsed < 2.0
     assert "Traceback" not in err, err
     assert planner.returncode == 130, err
+
+
+# ---- the page of refusals, docs/refusals.md: generated from this catalogue ------------------------------
+
+REFUSALS_PAGE = Path(__file__).resolve().parents[2] / "docs" / "refusals.md"
+
+
+def refusals_page() -> str:
+    """docs/refusals.md as the catalogue says it (``python tools/write_refusals_page.py`` writes it)."""
+    lines = [
+        "# What axisflow refuses, and why",
+        "",
+        "Generated from the catalogue of bad inputs, `tests/cli/test_bad_input.py` (write it again with",
+        "`python tools/write_refusals_page.py`; a test fails when it is out of date). Every input below is",
+        "refused with exit code 2 and exactly one line on stderr, no traceback, nothing on stdout, and",
+        "every file that existed before byte for byte what it was, with no stray temporary file; the",
+        "test checks each of these, and that the line names what the last column lists (the value, the",
+        "limit and its unit, where there are some). How the catalogue is run, and the faults injected",
+        "beside it: [trust.md](trust.md).",
+        "",
+        f"{len(CASES)} inputs over {len({c.args[0] for c in CASES})} commands.",
+    ]
+    for command in sorted({c.args[0] for c in CASES}):
+        lines += ["", f"## axisflow {command}", "", "| what | input | the line names |", "|---|---|---|"]
+        for c in (c for c in CASES if c.args[0] == command):
+            what = c.id.split(": ", 1)[-1]
+            shown = " ".join(a if len(a) <= 40 else a[:37] + "…" for a in c.args)
+            names = "; ".join(f"`{s}`" for s in c.says)
+            row = [what, f"`axisflow {shown}`", names]
+            lines.append(
+                "| " + " | ".join(cell.replace("|", "\\|").replace("\n", " ") for cell in row) + " |"
+            )
+    return "\n".join(lines) + "\n"
+
+
+def test_the_refusals_page_is_the_catalogue():
+    assert REFUSALS_PAGE.read_text(encoding="utf-8") == refusals_page(), (
+        "docs/refusals.md is out of date: run python tools/write_refusals_page.py"
+    )
