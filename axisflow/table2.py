@@ -20,7 +20,9 @@ setpoint samples are incomplete between its first and last tick is flagged (its 
 recorded). The table names both below it.
 
 The result is the one Table 2 record of :mod:`axisflow.table2_record` (its measured columns filled),
-written by its writer.
+written by its writer; :func:`move_energies` gives the same moves one by one
+(:class:`~axisflow.move_energy.MoveEnergy`: E_th, E_exp and E% per move, the parameter version each
+plan used), what ``axisflow table2 --per-move`` writes.
 """
 
 from __future__ import annotations
@@ -45,6 +47,7 @@ from .acquisition import (
     topic_for_key,
 )
 from .model import EXECUTION_PERIOD_S, AxisflowError, EnergyAccounting, trace_energy
+from .move_energy import MoveEnergy
 from .planner import Case
 from .table2_record import MeasuredColumns, PlannedColumns, Table2, Table2Row
 
@@ -101,6 +104,52 @@ def table_from_recording(
     title: str = "Table 2, on the axis",
 ) -> Table2:
     """Table 2 of the runs recorded in ``path`` (those with ``label``, or all), titled ``title``."""
+    rows, accounting = recorded_runs(path, keys, label)
+    return table_of_runs(rows, accounting, title, str(path))
+
+
+def table_of_runs(runs: list[RecordedRun], accounting: EnergyAccounting, title: str, source: str) -> Table2:
+    """Table 2 of recorded runs (:func:`recorded_runs`)."""
+    first = runs[0].moves
+    waypoints = (first[0].plan.start_position_m, *(m.plan.end_position_m for m in first))
+    return Table2(title, accounting, waypoints, tuple(run.row() for run in runs), source=source)
+
+
+def move_energies(runs: list[RecordedRun]) -> list[MoveEnergy]:
+    """Every move of ``runs`` (:func:`recorded_runs`) with its planned and measured energy, in the order
+    the moves started (moves that never started last, in plan order)."""
+    out = []
+    for run in runs:
+        for m in run.moves:
+            acc = m.accepted
+            start = acc.stamp_of(acc.start_tick) if acc is not None else -1
+            end = acc.stamp_of(acc.end_tick) if acc is not None else -1
+            measured = m.energy_measured_j if math.isfinite(m.energy_measured_j) else None
+            p = m.plan
+            out.append(
+                MoveEnergy(
+                    label=run.label,
+                    case=run.case,
+                    law=run.law,
+                    solver=run.solver,
+                    waypoint_index=p.waypoint_index,
+                    move_id=p.move_id,
+                    start_ns=start,
+                    end_ns=end,
+                    duration_s=p.duration_s,
+                    params_version=p.params_version,
+                    energy_planned_j=p.energy_j,
+                    energy_measured_j=measured,
+                )
+            )
+    return sorted(out, key=lambda e: (e.start_ns < 0, e.start_ns))
+
+
+def recorded_runs(
+    path: str | Path, keys: AxisKeys | None = None, label: str | None = None
+) -> tuple[list[RecordedRun], EnergyAccounting]:
+    """The runs recorded in ``path`` (those with ``label``, or all), each move measured (see the module
+    docstring), and the plans' energy accounting."""
     keys = keys or AxisKeys()
     plans = [PlanRecord.decode(m.data) for m in read_messages(path, topic_for_key(keys.plan), PLAN_TYPE)]
     plans = [p for p in plans if p.waypoint_index > 0 and (label is None or p.run == label)]
@@ -125,9 +174,7 @@ def table_from_recording(
         _measure(row, signals, accounting)
         row.idle_ticks = _idle_ticks(row, signals)
         row.setpoint_samples_missing = _setpoints_missing(row, signals)
-    first = rows[0].moves
-    waypoints = (first[0].plan.start_position_m, *(m.plan.end_position_m for m in first))
-    return Table2(title, accounting, waypoints, tuple(row.row() for row in rows), source=str(path))
+    return rows, accounting
 
 
 @dataclass(frozen=True)
