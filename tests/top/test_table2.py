@@ -30,7 +30,7 @@ MOVES = [(400, 10.0, 50.0, 1.0), (600, 12.0, 40.0, 2.0), (500, 8.0, 30.0, 1.5)]
 GAP = 7  # idle ticks between move 2 and move 3
 
 
-def _write(path, accounting="positive", lost=(), versions=(0, 0, 0)):
+def _write(path, accounting="positive", lost=(), versions=(0, 0, 0), jitter_ns=0):
     """Moves back to back except a gap before the third; over each move ω(t) = W·sin(πt/T) and
     τ(t) = Q·cos(πt/T): power W·Q/2·sin(2πt/T), signed energy 0, positive energy W·Q·T/(2π). The
     samples of the ticks ``lost`` are not written (a recorder that missed them)."""
@@ -66,7 +66,8 @@ def _write(path, accounting="positive", lost=(), versions=(0, 0, 0)):
         if k in lost:
             continue
         stamp = T0 + k * MS
-        sample = AxisSample(stamp, "a0", 0.0, 0.0, 0.0, 0.0, float(omega[k]), float(torque[k]))
+        late = jitter_ns * (1 if k % 3 == 0 else -1 if k % 3 == 1 else 0)  # a host's clock: ± tens of µs
+        sample = AxisSample(stamp + late, "a0", 0.0, 0.0, 0.0, 0.0, float(omega[k]), float(torque[k]))
         w.add(state, stamp, stamp, k, sample.encode())
         sp = AxisSample(stamp, "a0", 0.0, 0.1 if moving[k] else 0.0, 0.0, 0.0, 0.0, 0.0)
         w.add(setpoint, stamp, stamp, k, sp.encode())
@@ -114,6 +115,25 @@ def test_lost_samples_are_counted_never_integrated_over(tmp_path):
     assert row.energy_error_pct == pytest.approx((18.0 - first - third) / 18.0 * 100.0, rel=1e-4)
     assert m.setpoint_samples_missing == 5 and m.idle_ticks == (0, GAP)
     assert "5 state samples within 1 moves (left out of E_exp and E%" in table_markdown(table)
+
+
+def test_jittered_stamps_belong_to_their_ticks(tmp_path):
+    table = table_from_recording(_write(tmp_path / "j.mcap", jitter_ns=50_000))
+    m = table.rows[0].measured
+    expected = [amp_w * amp_q * (n / 1000) / (2 * math.pi) for n, _e, amp_w, amp_q in MOVES]
+    assert m.state_samples_missing == (0, 0, 0)
+    assert m.energies_j == pytest.approx(expected, rel=1e-4)
+
+
+def test_a_drive_that_lost_a_sample_now_and_then_is_measured_across_the_holes(tmp_path):
+    first = {100 + 50, 100 + 51, 100 + 300}  # two holes inside the first move: 2 ticks, then 1
+    third = {100 + 400 + 600 + GAP + 500}  # the third move's end tick: where it ends is not known
+    table = table_from_recording(_write(tmp_path / "h.mcap", lost=first | third, jitter_ns=20_000))
+    m = table.rows[0].measured
+    expected = [amp_w * amp_q * (n / 1000) / (2 * math.pi) for n, _e, amp_w, amp_q in MOVES]
+    assert m.state_samples_missing == (3, 0, 1)
+    assert m.energies_j[0] == pytest.approx(expected[0], rel=1e-4)
+    assert m.energies_j[2] is None and m.moves_measured == 2
 
 
 def test_the_accounting_is_the_plans(tmp_path):
