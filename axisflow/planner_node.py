@@ -12,7 +12,9 @@ For each run (a case × law over the way points) the node
    ``<prefix>/<axis>/plan`` before sending the move, so that a recording holds the plans;
 4. follows every move through its statuses: a rejection, a drop, a stop or a vanished bridge ends the
    run with the bridge's reason; a move that starts later than the end of the one before (the queue
-   ran dry: the plan was late) ends it too, naming the move and the idle ticks.
+   ran dry: the plan was late) ends it too, naming the move and the idle ticks — unless the settings
+   say to carry on (``stop_when_late`` False: a long benchmark on a busy machine, where an idle stretch
+   is counted, :attr:`RunReport.late_moves`, rather than fatal).
 
 A move shorter than one encoder count (a repeated way point, a way point within a count of the one
 before) is a zero move (:func:`~axisflow.planner.evaluation.zero_move_result`): nothing is sent or
@@ -110,6 +112,8 @@ class RunReport:
     moves: list[MoveOutcome] = field(default_factory=list)
     zero_moves: list[int] = field(default_factory=list)
     """way point indices k whose move k − 1 → k is a zero move (not sent)"""
+    late_moves: list[int] = field(default_factory=list)
+    """way point indices k whose move started after the one before had ended (``stop_when_late`` off)"""
 
     @property
     def experiment(self) -> list[MoveOutcome]:
@@ -156,6 +160,8 @@ class NodeSettings:
     """the plan records' ``run`` label (e.g. nominal, refit)"""
     adapt: bool = False
     """plan with the newest parameter set an adaptive node accepted (see the module docstring)"""
+    stop_when_late: bool = True
+    """a move that starts after the one before it ended ends the run (False: counted, the run goes on)"""
 
     def __post_init__(self) -> None:
         if not 1 <= self.lookahead <= 64:
@@ -400,7 +406,9 @@ class PlannerNode:
             before = report.moves[k - 1] if k > 0 and report.moves[k - 1].index > 0 else None
             if before is not None and before.accepted is not None:
                 idle = status.start_tick - before.accepted.end_tick
-                if idle > 0:
+                if idle > 0 and not self.settings.stop_when_late:
+                    report.late_moves.append(outcome.index)
+                elif idle > 0:
                     raise PlanLateError(
                         f"move {outcome.index} ({report.run.case.value} {report.run.law}) started {idle} "
                         f"ticks after move {before.index} ended: the plan was late (solve "
