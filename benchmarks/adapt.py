@@ -60,6 +60,12 @@ READY_TIMEOUT_S = 60.0
 LOOKAHEAD_S = 10.0
 """drive time each planner keeps queued (the demo's): at --speed 0 a bridge runs several times real time"""
 TICKER_S = 20.0
+TAIL_S = 120.0
+"""drive time each bridge runs on after its last move before the recorder stops [s]: at --speed 0 a
+bridge runs ahead of the recorder by what the buffers between them hold (about a minute of drive time
+with three axes), and the recorder's stop waits only a second for that backlog"""
+TAIL_WAIT_S = 120.0
+"""the most wall time the tail may take [s]"""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -200,16 +206,18 @@ def run(args: argparse.Namespace) -> int:
                 reports = _each_way(
                     lambda way: _planner(session, way, params[way], way == "adapt", waypoints, n_passes, stop)
                 )
+                wall["way points"] = time.monotonic() - t0
+                _tail(watches, reports, say)
             finally:
                 done.set()
                 ticker.join()
                 for w in watches.values():
                     w.close()
-            wall["way points"] = time.monotonic() - t0
             children.stop(adapter)
+        # the recorder before the bridges: its stop's hello needs them alive to prove nothing is missing
+        end = children.stop(recorder)
         for bridge in bridges:
             children.stop(bridge)
-        end = children.stop(recorder)
         if end.returncode != 0:
             raise AxisflowError(f"the recorder exited with {end.returncode}: see {out / 'logs'}")
     t0 = time.monotonic()
@@ -290,6 +298,24 @@ def _planner(
     )
     with PlannerNode(session, settings, params, ExactBackend(), None, stop) as node:
         return node.run(waypoints)
+
+
+def _tail(watches: dict[str, Any], reports: dict[str, Any], say: Any) -> None:
+    """Let every bridge run :data:`TAIL_S` of drive time past its last move, so that the recorder (which
+    trails the bridges) has the whole experiment before it stops."""
+    last = {}
+    for way, runs in reports.items():
+        ends = [m.accepted.stamp_of(m.accepted.end_tick) for r in runs for m in r.moves if m.accepted]
+        last[way] = max(ends)
+    say(f"  the bridges run on {TAIL_S:g} s of drive time, for the recorder to catch up")
+    deadline = time.monotonic() + TAIL_WAIT_S
+
+    def caught_up() -> bool:
+        infos = {way: watch.latest() for way, watch in watches.items()}
+        return all(i is not None and i.stamp_ns >= last[w] + TAIL_S * 1e9 for w, i in infos.items())
+
+    while not caught_up() and time.monotonic() < deadline:
+        time.sleep(0.2)
 
 
 def _ticker(watches: dict[str, Any], done: threading.Event, say: Any, t0: float) -> None:
@@ -374,7 +400,7 @@ def _energy_pass(moves: list[Any]) -> dict[str, Any]:
     measured = [m for m in moves if m.energy_measured_j is not None]
     planned = math.fsum(m.energy_planned_j for m in measured)
     real = math.fsum(m.energy_measured_j for m in measured)
-    total = math.fsum(m.duration_s for m in moves)
+    total = math.fsum(m.duration_s for m in measured)  # over the measured moves, as the energies
     return {
         "moves": len(moves),
         "measured": len(measured),
@@ -447,7 +473,7 @@ def _markdown(results: dict[str, Any], args: argparse.Namespace) -> str:
         "",
         "the last pass, minimum time-energy (ω = 0.9, poly5), the same way points:",
         "",
-        "| way | moves | T [s] | E_th [J] | E_exp [J] | E% | median abs E% | ω·T + (1−ω)·E_exp |",
+        "| way | moves measured | T [s] | E_th [J] | E_exp [J] | E% | median abs E% | ω·T + (1−ω)·E_exp |",
         "|---|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for w in WAYS:
