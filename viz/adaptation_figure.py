@@ -39,7 +39,7 @@ def adaptation_png(series: Mapping[str, EnergyErrorSeries], title: str) -> bytes
         colour = COLOURS.get(name, f"C{i}")
         top.plot(s.minutes, s.error_pct, ".", ms=2.5, alpha=0.55, color=colour, label=name)
         edges = np.arange(s.median_abs_pct.size + 1, dtype=float)
-        bottom.stairs(s.median_abs_pct, edges, color=colour, lw=1.8, label=name)
+        bottom.stairs(s.median_abs_pct, edges, color=colour, lw=1.8, label=name, baseline=None)
     top.axhspan(-1.0, 1.0, color="#2ca02c", alpha=0.12, label="±1 %")
     for level in (-3.0, 3.0):
         top.axhline(level, color="grey", ls="--", lw=0.8)
