@@ -38,6 +38,9 @@ from .identification.online import Adapter
 
 QUEUE_CAPACITY = 65_536
 """samples the Zenoh channel holds (65 s of a 1 kHz axis; when full it holds the publisher back)"""
+JOIN_TIMEOUT_S = 30.0
+"""how long the publishers on the state key may take to answer the join's hellos [s] (a bridge on a
+loaded machine answers late; the node has nothing to do before it has joined)"""
 _BATCH = 2048
 """samples taken off the channel before they are decoded and handed on"""
 _IDLE_S = 0.002
@@ -112,7 +115,9 @@ class AdaptNode:
         handler = lambda: zenoh.handlers.FifoChannel(QUEUE_CAPACITY)  # noqa: E731
         publisher = SequencedPublisher(self._session, self.keys.params, PARAMS_ESTIMATE_TYPE, Traffic.COMMAND)
         try:
-            with JoinedSubscriber(self._session, self.keys.state, handler, stop=self._stop) as joined:
+            with JoinedSubscriber(
+                self._session, self.keys.state, handler, JOIN_TIMEOUT_S, stop=self._stop
+            ) as joined:
                 sub = joined.subscriber
                 if sub is None:  # stopped while joining
                     return self.report

@@ -134,9 +134,14 @@ def run(args: argparse.Namespace) -> int:
     wall: dict[str, float] = {}
     with stop_on_signals() as stop, Launcher(out / "logs") as children:
         say(f"adapt benchmark in {out}: three warm-up axes at --speed 0 on {endpoint}; load {load[0]:.2f}")
+        # the recorder first, listening: it joins at once (no publisher yet to answer its hellos, which a
+        # loaded machine may answer late) and every bridge that connects afterwards knows its subscriber
+        recorder = children.start(
+            "recorder", "record", "-o", str(recording), "--listen", endpoint, ready=True
+        )
+        children.wait_ready(recorder, READY_TIMEOUT_S)
         bridges = []
-        for i, way in enumerate(WAYS):
-            link = ("--listen" if i == 0 else "--connect", endpoint)
+        for way in WAYS:
             bridges.append(
                 children.start(
                     f"bridge-{way}",
@@ -148,15 +153,12 @@ def run(args: argparse.Namespace) -> int:
                     "warm-up",
                     "--speed",
                     "0",
-                    *link,
+                    "--connect",
+                    endpoint,
                     ready=True,
                 )
             )
             children.wait_ready(bridges[-1], READY_TIMEOUT_S)
-        recorder = children.start(
-            "recorder", "record", "-o", str(recording), "--connect", endpoint, ready=True
-        )
-        children.wait_ready(recorder, READY_TIMEOUT_S)
         with open_session(ZenohOptions(connect=(endpoint,))) as session:
             import socket
 

@@ -23,6 +23,8 @@ from .readiness import JoinedSubscriber
 
 log = logging.getLogger(__name__)
 
+JOIN_TIMEOUT_S = 30.0
+"""how long an adaptive node may take to answer the join's hellos [s] (a loaded machine answers late)"""
 QUEUE_CAPACITY = 1024
 """records the channel holds between two plans (a node publishes one every few seconds of drive time)"""
 
@@ -32,9 +34,8 @@ class AcceptedParams:
 
     def __init__(self, session: zenoh.Session, keys: AxisKeys, stop: threading.Event | None = None) -> None:
         self.keys = keys
-        self._joined = JoinedSubscriber(
-            session, keys.params, lambda: zenoh.handlers.FifoChannel(QUEUE_CAPACITY), stop=stop
-        )
+        handler = lambda: zenoh.handlers.FifoChannel(QUEUE_CAPACITY)  # noqa: E731
+        self._joined = JoinedSubscriber(session, keys.params, handler, JOIN_TIMEOUT_S, stop=stop)
         self._newest: ParamsEstimate | None = None
         self.received = 0
         self.rejected = 0
