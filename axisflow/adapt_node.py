@@ -112,7 +112,10 @@ class AdaptNode:
     def run(self, duration_s: float | None = None, on_ready: Callable[[], None] | None = None) -> AdaptReport:
         """Adapt until stopped (or ``duration_s`` of wall time after joining)."""
         t0 = time.monotonic()
-        handler = lambda: zenoh.handlers.FifoChannel(QUEUE_CAPACITY)  # noqa: E731
+
+        def handler() -> zenoh.handlers.FifoChannel:
+            return zenoh.handlers.FifoChannel(QUEUE_CAPACITY)
+
         publisher = SequencedPublisher(self._session, self.keys.params, PARAMS_ESTIMATE_TYPE, Traffic.COMMAND)
         try:
             with JoinedSubscriber(
@@ -127,7 +130,7 @@ class AdaptNode:
                     on_ready()
                 deadline = None if duration_s is None else time.monotonic() + duration_s
                 while not self._stop.is_set() and (deadline is None or time.monotonic() < deadline):
-                    payloads = []
+                    payloads: list[bytes] = []
                     while len(payloads) < _BATCH and (sample := sub.try_recv()) is not None:
                         payloads.append(sample.payload.to_bytes())
                     if payloads:

@@ -34,7 +34,10 @@ class AcceptedParams:
 
     def __init__(self, session: zenoh.Session, keys: AxisKeys, stop: threading.Event | None = None) -> None:
         self.keys = keys
-        handler = lambda: zenoh.handlers.FifoChannel(QUEUE_CAPACITY)  # noqa: E731
+
+        def handler() -> zenoh.handlers.FifoChannel:
+            return zenoh.handlers.FifoChannel(QUEUE_CAPACITY)
+
         self._joined = JoinedSubscriber(session, keys.params, handler, JOIN_TIMEOUT_S, stop=stop)
         self._newest: ParamsEstimate | None = None
         self.received = 0

@@ -182,14 +182,12 @@ def check_uncertainty(drift: DriftFit, rules: AcceptanceRules) -> Verdict | None
     return Verdict(Decision.UNCERTAIN, "too uncertain: " + "; ".join(over))
 
 
-def check_change(
-    drift: DriftFit, accepted: AxisParams, rules: AcceptanceRules
-) -> tuple[Verdict | None, AxisParams | None]:
-    """Rule 4: (None, the new parameters) if the change is plausible, else (the verdict, None)."""
+def check_change(drift: DriftFit, accepted: AxisParams, rules: AcceptanceRules) -> Verdict | AxisParams:
+    """Rule 4: the new parameters if the change is plausible, else the verdict saying why not."""
     try:
         candidate = drift.params()
     except ParameterError as exc:
-        return Verdict(Decision.IMPLAUSIBLE, f"outside the physical ranges: {exc}"), None
+        return Verdict(Decision.IMPLAUSIBLE, f"outside the physical ranges: {exc}")
     new, old = drift.values.as_dict(), FrictionValues.of(accepted).as_dict()
     over = []
     for name in PARAMETERS:
@@ -202,8 +200,8 @@ def check_change(
                 f"{name} {old[name]:.5g} → {new[name]:.5g} ({100 * change:+.1f} %, bound ±{100 * bound:g} %)"
             )
     if over:
-        return Verdict(Decision.IMPLAUSIBLE, "implausible change: " + "; ".join(over)), None
-    return None, candidate
+        return Verdict(Decision.IMPLAUSIBLE, "implausible change: " + "; ".join(over))
+    return candidate
 
 
 @dataclass(frozen=True)

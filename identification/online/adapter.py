@@ -210,16 +210,17 @@ class Adapter:
         except IdentificationError as exc:
             return self._record(Verdict(Decision.FIT_FAILED, str(exc)), window.start_ns, window.end_ns)
         self._last = drift.result
-        verdict = check_uncertainty(drift, s.rules)
-        candidate = None
-        if verdict is None:
-            verdict, candidate = check_change(drift, self.accepted, s.rules)
         errors = None
-        if verdict is None and candidate is not None:
-            errors = self._holdout(window, drift.values, delay_s)
-            verdict = check_holdout(errors, s.rules, self.version)
-        if verdict.decision is Decision.ACCEPTED and candidate is not None:
-            self.accepted = candidate
+        verdict = check_uncertainty(drift, s.rules)
+        if verdict is None:
+            change = check_change(drift, self.accepted, s.rules)
+            if isinstance(change, Verdict):
+                verdict = change
+            else:
+                errors = self._holdout(window, drift.values, delay_s)
+                verdict = check_holdout(errors, s.rules, self.version)
+                if verdict.decision is Decision.ACCEPTED:
+                    self.accepted = change
         verdict = dataclasses.replace(verdict, reason=verdict.reason + held_mass)
         return self._record(verdict, window.start_ns, window.end_ns, drift, errors)
 
