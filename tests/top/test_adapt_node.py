@@ -19,29 +19,18 @@ pytestmark = pytest.mark.slow
 
 def test_the_planner_plans_with_what_the_adaptive_node_accepts(cli, tmp_path, port):
     endpoint = f"tcp/127.0.0.1:{port}"
+    # at 5× real time with 20 s queued (not --speed 0: a planner process held back on a loaded machine
+    # must not find the queue run dry), the default window: three minutes of drive time hold ~30 windows
     bridge = cli.start(
-        "bridge", "--sim", "--plant-profile", "warm-up", "--speed", "0", "--listen", endpoint, ready=True
+        "bridge", "--sim", "--plant-profile", "warm-up", "--speed", "5", "--listen", endpoint, ready=True
     )
     cli.wait_ready(bridge)
     recording = tmp_path / "adapt.mcap"
     rec = cli.start("record", "-o", str(recording), "--connect", endpoint, ready=True)
     cli.wait_ready(rec)
-    # a shorter window and period than the defaults: the test's two minutes of drive time see many
-    adapt = cli.start(
-        "adapt",
-        "--connect",
-        endpoint,
-        "--window",
-        "20",
-        "--holdout",
-        "4",
-        "--every",
-        "4",
-        "--json",
-        ready=True,
-    )
+    adapt = cli.start("adapt", "--connect", endpoint, "--json", ready=True)
     cli.wait_ready(adapt)
-    args = ("--random", "240", "--adapt", "--lookahead-s", "10", "--label", "adapt", "--connect", endpoint)
+    args = ("--random", "400", "--adapt", "--lookahead-s", "20", "--label", "adapt", "--connect", endpoint)
     planner = cli.run("planner", *args, "--json", timeout=300)
     assert planner.returncode == 0, planner.stderr
     (run,) = json.loads(planner.stdout)
@@ -51,8 +40,9 @@ def test_the_planner_plans_with_what_the_adaptive_node_accepts(cli, tmp_path, po
         assert proc.returncode == 0, stderr
         if proc is adapt:
             report = json.loads(stdout)
-    assert report["decisions"].get("accepted", 0) >= 2 and report["version"] >= 2
     estimates = recorded_estimates(recording, AxisKeys())
+    reasons = [e.reason for e in estimates]
+    assert report["decisions"].get("accepted", 0) >= 2 and report["version"] >= 2, reasons
     assert estimates[0].decision is Decision.INITIAL and estimates[0].version == 0
     assert [e.version for e in estimates if e.decision is Decision.ACCEPTED] == list(
         range(1, report["version"] + 1)
