@@ -12,7 +12,9 @@ For each run (a case × law over the way points) the node
    ``<prefix>/<axis>/plan`` before sending the move, so that a recording holds the plans;
 4. follows every move through its statuses: a rejection, a drop, a stop or a vanished bridge ends the
    run with the bridge's reason; a move that starts later than the end of the one before (the queue
-   ran dry: the plan was late) ends it too, naming the move and the idle ticks.
+   ran dry: the plan was late) ends it too, naming the move and the idle ticks — unless the settings
+   say to carry on (``stop_when_late`` False: a long benchmark on a busy machine, where an idle stretch
+   is counted, :attr:`RunReport.late_moves`, rather than fatal).
 
 A move shorter than one encoder count (a repeated way point, a way point within a count of the one
 before) is a zero move (:func:`~axisflow.planner.evaluation.zero_move_result`): nothing is sent or
@@ -22,6 +24,17 @@ the axis, inside the bridge's jump tolerance). The report counts such moves.
 The node checks its stop event (set by SIGINT/SIGTERM) before each plan and while it waits for
 statuses; every solve is bounded (the back-ends' iteration caps and deadlines), so a stop ends a run
 within one solve.
+
+**Adapting** (``adapt``: ``axisflow planner --adapt``): the node follows an adaptive node's (``axisflow
+adapt``) accepted parameter sets on ``<prefix>/<axis>/params``
+(:class:`~axisflow.acquisition.bus.accepted_params.AcceptedParams`): before each plan — between moves,
+never during a solve — it takes the newest accepted set (its M_eq and a1…a4 over the node's own
+parameters: :meth:`ParamsEstimate.applied_to`), prepares the back-end for it, and plans every following
+move with it; each plan record names the version it used (``params_version``; 0: the node's own
+parameters). The bridge validates every move against *its* parameters (the node's own, by convention the
+same file): a plan that those say breaks a limit — an adapted set with less friction allows a faster
+minimum-time move than the bridge's model does — is planned again no faster than the node's own
+parameters' minimum time for that move.
 
 Per move it reports the solve time and the **slack**: the drive time between the bridge accepting the
 move (the plan ready, sent, validated) and the move's start. Drive time is the bridge's clock: at
@@ -35,6 +48,7 @@ public move API (:class:`~axisflow.acquisition.bus.move_sender.MoveSender`).
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
 import threading
@@ -46,10 +60,13 @@ import numpy as np
 import zenoh
 
 from .acquisition import PLAN_TYPE, AxisKeys, MoveCommand, MoveState, MoveStatus, PlanRecord
+from .acquisition.bridge.move_queue import CHECK_POINTS
+from .acquisition.bus.accepted_params import AcceptedParams
 from .acquisition.bus.axis_state import AxisState
 from .acquisition.bus.move_sender import BRIDGE_TIMEOUT_S, MoveSender
 from .acquisition.bus.publisher import SequencedPublisher, Traffic
-from .model import AxisflowError, AxisParams, polynomial_law
+from .acquisition.errors import WireError
+from .model import AxisflowError, AxisParams, Move, check_limits, polynomial_law
 from .planner import Case, ExactBackend, MoveProblem, PlannerBackend, PlanResult, SolveStatus
 
 _REFUSED_STATUSES = (SolveStatus.DEADLINE, SolveStatus.FAILED, SolveStatus.INFEASIBLE)
@@ -78,6 +95,8 @@ class MoveOutcome:
     plan: PlanResult
     accepted: MoveStatus | None = None
     completed: MoveStatus | None = None
+    params_version: int = 0
+    """the parameter set the plan used (0: the node's own; N: an adaptive node's version N)"""
 
     @property
     def slack_s(self) -> float:
@@ -93,6 +112,8 @@ class RunReport:
     moves: list[MoveOutcome] = field(default_factory=list)
     zero_moves: list[int] = field(default_factory=list)
     """way point indices k whose move k − 1 → k is a zero move (not sent)"""
+    late_moves: list[int] = field(default_factory=list)
+    """way point indices k whose move started after the one before had ended (``stop_when_late`` off)"""
 
     @property
     def experiment(self) -> list[MoveOutcome]:
@@ -115,6 +136,9 @@ class RunReport:
         head = f"{self.run.case.value} {self.run.law} ({self.solver}): {len(moves)} moves{zero}"
         if not moves:
             return head
+        versions = sorted({m.params_version for m in moves})
+        if versions != [0]:
+            head += f", parameter versions {versions[0]}…{versions[-1]}"
         return (
             f"{head}, T = {total:.2f} s, "
             f"E_th = {energy:.1f} J, solve {solve_ms.mean():.3f} ± {solve_ms.std():.3f} ms, "
@@ -134,6 +158,10 @@ class NodeSettings:
     time, so a planner process that loses the CPU for 0.1 s needs a second of drive time queued"""
     label: str = ""
     """the plan records' ``run`` label (e.g. nominal, refit)"""
+    adapt: bool = False
+    """plan with the newest parameter set an adaptive node accepted (see the module docstring)"""
+    stop_when_late: bool = True
+    """a move that starts after the one before it ended ends the run (False: counted, the run goes on)"""
 
     def __post_init__(self) -> None:
         if not 1 <= self.lookahead <= 64:
@@ -157,6 +185,12 @@ class PlannerNode:
         stop: threading.Event | None = None,
     ) -> None:
         self.settings, self.params, self.backend = settings, params, backend
+        self.base_params = params
+        """the node's own parameters (version 0; what the bridge validates moves with, by convention)"""
+        self.params_version = 0
+        """the version of :attr:`params`"""
+        self._accepted: AcceptedParams | None = None
+        self._refused_version = 0
         self._session = session
         self._say = progress or (lambda _line: None)
         self._stop = stop or threading.Event()
@@ -167,6 +201,8 @@ class PlannerNode:
         self._setpoint = AxisState(self._session, keys, "setpoint")
         self._plans = SequencedPublisher(self._session, keys.plan, PLAN_TYPE, Traffic.COMMAND)
         try:
+            if self.settings.adapt:
+                self._accepted = AcceptedParams(self._session, keys, self._stop).__enter__()
             self._sender.require_bridge(BRIDGE_TIMEOUT_S)
         except AxisflowError:
             self.__exit__()
@@ -174,6 +210,9 @@ class PlannerNode:
         return self
 
     def __exit__(self, *_exc: object) -> None:
+        if self._accepted is not None:
+            self._accepted.__exit__()
+            self._accepted = None
         self._plans.undeclare()
         self._setpoint.close()
         self._sender.close()
@@ -232,7 +271,10 @@ class PlannerNode:
 
     def _plan(self, problem: MoveProblem) -> PlanResult:
         self._check_stop()
+        self._take_newest_params(problem)
         result = self.backend.solve(problem, self.params)
+        if self.params_version and not result.zero_move:
+            result = self._within_base_limits(problem, result)
         if result.status in _REFUSED_STATUSES:
             raise AxisflowError(
                 f"the {result.solver} plan of the move {problem.x0_m:.6g} → {problem.x1_m:.6g} m "
@@ -247,9 +289,46 @@ class PlannerNode:
             )
         return result
 
+    def _take_newest_params(self, problem: MoveProblem) -> None:
+        """Between moves: plan with the newest accepted set of the adaptive node, if there is one."""
+        if self._accepted is None:
+            return
+        record = self._accepted.newest(max(self.params_version, self._refused_version))
+        if record is None:
+            return
+        try:
+            params = record.applied_to(self.base_params)
+        except WireError as exc:
+            self._refused_version = record.version
+            self._say(f"  {self.settings.keys.axis}: parameter version {record.version} not taken: {exc}")
+            return
+        self.params, self.params_version = params, record.version
+        self.backend.prepare(problem, params)  # its tables for the new set, outside the timed solve
+        self._say(
+            f"  {self.settings.keys.axis}: planning with parameter version {record.version} (M_eq "
+            f"{params.M_eq:.4g} kg, a1 {params.a1:.4g} N, a2 {params.a2:.4g} N·s/m, a3 {params.a3:.4g} N)"
+        )
+
+    def _within_base_limits(self, problem: MoveProblem, result: PlanResult) -> PlanResult:
+        """``result`` if the node's own parameters (the bridge's) find it inside the limits; else the
+        plan again, no faster than their minimum time for the move."""
+        move = Move(problem.x0_m, problem.x1_m, result.duration_s, problem.law)
+        report = check_limits(move, self.base_params, min_points=CHECK_POINTS)
+        if report.velocity_violation <= 0.0 and report.torque_violation <= 0.0:
+            return result
+        fastest = ExactBackend().solve(dataclasses.replace(problem, case=Case.MIN_TIME), self.base_params)
+        assert problem.t_min_s is not None and problem.t_max_s is not None
+        floor = min(max(fastest.duration_s, problem.t_min_s), problem.t_max_s)
+        again = self.backend.solve(dataclasses.replace(problem, t_min_s=floor), self.params)
+        spent = result.solve_time_s + fastest.solve_time_s + again.solve_time_s
+        return dataclasses.replace(again, solve_time_s=spent)
+
     def _plan_exact(self, problem: MoveProblem) -> PlanResult:
         self._check_stop()
-        return ExactBackend().solve(problem, self.params)
+        result = ExactBackend().solve(problem, self.params)
+        if self.params_version and not result.zero_move:
+            result = self._within_base_limits(problem, result)
+        return result
 
     def _send(self, report: RunReport, run: NodeRun, index: int, plan: PlanResult) -> None:
         p = plan.problem
@@ -276,10 +355,11 @@ class PlannerNode:
             iterations=plan.iterations,
             solve_time_s=plan.solve_time_s,
             certificate=plan.certificate.to_dict() if plan.certificate is not None else {},
+            params_version=self.params_version,
         )
         self._plans.put(record.encode(), record.stamp_ns)
         cmd = self._sender.send(p.x0_m, p.x1_m, plan.duration_s, law=p.law.name, move_id=move_id)
-        report.moves.append(MoveOutcome(index, cmd, plan))
+        report.moves.append(MoveOutcome(index, cmd, plan, params_version=self.params_version))
 
     def _follow(self, report: RunReport, problems: list[MoveProblem], sent: int) -> None:
         """Wait on the statuses of the run's moves; plan the next one each time one starts."""
@@ -326,7 +406,9 @@ class PlannerNode:
             before = report.moves[k - 1] if k > 0 and report.moves[k - 1].index > 0 else None
             if before is not None and before.accepted is not None:
                 idle = status.start_tick - before.accepted.end_tick
-                if idle > 0:
+                if idle > 0 and not self.settings.stop_when_late:
+                    report.late_moves.append(outcome.index)
+                elif idle > 0:
                     raise PlanLateError(
                         f"move {outcome.index} ({report.run.case.value} {report.run.law}) started {idle} "
                         f"ticks after move {before.index} ended: the plan was late (solve "

@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from ..acquisition.wire.keys import AxisKeys, topic_for_key
-from ..model import AxisParams
+from ..model import AxisParams, ParameterError
 from .alignment import DelayEstimate, estimate_delay
 from .errors import IdentificationError
 from .extra_terms import ExtraTerms, TermColumns, covered_stretch
@@ -428,13 +428,14 @@ def refit_params(nominal: AxisParams, values: FrictionValues, fitted: tuple[str,
     """The nominal parameters with the fitted ones; a fitted M_eq goes into the cart mass m (the
     rotor, gearbox and pulley inertias keep their nominal values)."""
     changes: dict[str, float] = {name: getattr(values, name) for name in fitted if name != "M_eq"}
-    if "M_eq" in fitted:
+    params = nominal.replace(**changes)
+    if "M_eq" not in fitted:
+        return params
+    try:
+        return params.with_equivalent_mass(values.M_eq)
+    except ParameterError:
         rotating = nominal.M_eq - nominal.m
-        m = values.M_eq - rotating
-        if m <= 0.0:
-            raise IdentificationError(
-                f"the refit M_eq = {values.M_eq:.6g} kg is below the rotating parts' share {rotating:.6g} kg "
-                "of the nominal parameters: the log does not determine the inertia (fit without M_eq)"
-            )
-        changes["m"] = m
-    return nominal.replace(**changes)
+        raise IdentificationError(
+            f"the refit M_eq = {values.M_eq:.6g} kg is below the rotating parts' share {rotating:.6g} kg "
+            "of the nominal parameters: the log does not determine the inertia (fit without M_eq)"
+        ) from None

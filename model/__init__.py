@@ -14,7 +14,7 @@ from .dynamics import (
     motor_speed,
     motor_torque,
 )
-from .energy import count_power, move_energy, trace_energy
+from .energy import count_power, move_energy, trace_energy, trace_energy_at
 from .errors import AxisflowError, AxisflowWarning, MoveError, ParameterError
 from .friction import (
     FRICTION_PARAMETERS,
@@ -92,4 +92,5 @@ __all__ = [
     "stop_profile",
     "ticks_to_seconds",
     "trace_energy",
+    "trace_energy_at",
 ]

@@ -99,3 +99,15 @@ def trace_energy(
     if p.size < 2:
         return 0.0
     return float(dt_s * (p.sum() - 0.5 * (p[0] + p[-1])))
+
+
+def trace_energy_at(
+    t_s: np.ndarray, velocity_m_s: np.ndarray, force_n: np.ndarray, accounting: EnergyAccounting
+) -> float:
+    """Energy [J] of force and velocity sampled at increasing times ``t_s`` [s], not necessarily evenly
+    (a trace with a sample missing here and there): the trapezoidal rule on g(F·ẋ) over each step.
+    With even steps it is :func:`trace_energy`."""
+    p = count_power(np.asarray(force_n) * np.asarray(velocity_m_s), accounting)
+    if p.size < 2:
+        return 0.0
+    return float(np.dot(np.diff(np.asarray(t_s, dtype=float)), 0.5 * (p[1:] + p[:-1])))

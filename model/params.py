@@ -111,6 +111,19 @@ class AxisParams:
         """Cart force equivalent of the motor torque limit [N]."""
         return self.tau_max * self.i_r / self.r
 
+    def with_equivalent_mass(self, M_eq: float) -> AxisParams:
+        """A copy whose equivalent mass is ``M_eq`` [kg]: the change goes into the cart mass m (the rotor,
+        gearbox and pulley inertias keep their values) — how a refit or an adapted M_eq becomes a
+        parameter file. A :class:`ParameterError` when ``M_eq`` is not above the rotating parts' share."""
+        rotating = self.M_eq - self.m
+        m = M_eq - rotating
+        if not m > 0.0:
+            raise ParameterError(
+                f"M_eq = {M_eq:.6g} kg is not above the rotating parts' share {rotating:.6g} kg of the "
+                "parameters: no cart mass would be left"
+            )
+        return self.replace(m=m)
+
     def replace(self, **changes: Any) -> AxisParams:
         """A copy with some fields changed (validated again)."""
         return dataclasses.replace(self, **changes)

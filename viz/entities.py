@@ -18,6 +18,12 @@ by the plot that shows it::
     axes/<label>/power/measured        τ_m·ω_m [W]                                 Scalars
     axes/<label>/energy/measured       ∫ g(τ_m·ω_m) dt over each move's ticks [J]  Scalars (points)
     axes/<label>/energy/planned        the plan's model energy E_th [J]            Scalars (points)
+    axes/<label>/energy_error          E% = (E_th − E_exp)/E_th of each move [%]   Scalars (points)
+    axes/<label>/params/<name>         an adaptive node's accepted M_eq, a1…a4, in
+                                       % of its version 0, with ±σ (three series)  Scalars
+    axes/<label>/params/rejected/<name> estimates it turned down, the same units   Scalars (points)
+    axes/<label>/friction/now          F_c(ẋ) [N] over ±v_max of the accepted set  LineStrips2D
+    axes/<label>/friction/start        F_c(ẋ) [N] of version 0                     LineStrips2D
     axes/<label>/events                the bridge's move statuses                  TextLog
 
 Everything is on one timeline, :data:`TIMELINE`: the drive time of the sample (the JointState
@@ -112,6 +118,29 @@ class AxisEntities:
     @property
     def energy_planned(self) -> str:
         return f"{self.root}/energy/planned"
+
+    @property
+    def energy_error(self) -> str:
+        return f"{self.root}/energy_error"
+
+    def parameter(self, name: str) -> str:
+        """an accepted parameter with its σ band, in % of the adaptive node's version 0"""
+        return f"{self.root}/params/{name}"
+
+    def rejected_parameter(self, name: str) -> str:
+        return f"{self.root}/params/rejected/{name}"
+
+    @property
+    def friction(self) -> str:
+        return f"{self.root}/friction"
+
+    @property
+    def friction_now(self) -> str:
+        return f"{self.root}/friction/now"
+
+    @property
+    def friction_start(self) -> str:
+        return f"{self.root}/friction/start"
 
     @property
     def events(self) -> str:

@@ -6,10 +6,13 @@ on the caller's thread (never in a Zenoh callback), drains it and sorts each sam
 
 * ``state``, ``setpoint`` — JointState payloads, decoded in bulk per batch (:func:`.samples.decode_payloads`);
 * ``event`` — :class:`~axisflow.acquisition.MoveStatus`; ``plan`` — :class:`~axisflow.acquisition.PlanRecord`;
+* ``params`` — an adaptive node's :class:`~axisflow.acquisition.wire.params_estimate.ParamsEstimate`
+  (its axis's column gets the views of the adapted parameters when the first one comes);
 * anything else (moves, liveliness, other keys) is counted and left alone.
 
 Every :data:`BATCH_INTERVAL_S` the batches go to each axis's :class:`.scene.AxisScene` (the same
-scene as a log view, so both look alike) with ``send_columns``. A new axis adds its column to the
+scene as a log view, so both look alike) with ``send_columns``; each move's E% is logged as soon as
+its plan and its measured samples are in (:class:`.moves.MoveLedger`). A new axis adds its column to the
 layout (the blueprint is sent again). Per key and publisher, gaps in the attachment's sequence
 numbers count the messages lost on the way; the latency is measured from each sample's header stamp
 (drive time) to the moment its batch was handed to rerun.
@@ -38,6 +41,7 @@ from ..acquisition.errors import WireError
 from ..acquisition.histogram import DurationHistogram, DurationStats
 from ..acquisition.wire.attachment import unpack_attachment
 from ..acquisition.wire.move_status import MoveStatus
+from ..acquisition.wire.params_estimate import ParamsEstimate
 from ..acquisition.wire.plan_record import PlanRecord
 from ..acquisition.wire.sequence import SequenceTracker
 from ..model import AxisParams
@@ -56,8 +60,8 @@ STALE_STAMP_NS = 10_000_000_000
 """a stamp further than this from the wall clock is not live (e.g. a replay): no latency for it"""
 _DRAIN_BATCH = 512
 _IDLE_SLEEP_S = 0.002
-_KINDS = ("state", "setpoint", "event", "plan")
-_Record = TypeVar("_Record", MoveStatus, PlanRecord)
+_KINDS = ("state", "setpoint", "event", "plan", "params")
+_Record = TypeVar("_Record", MoveStatus, PlanRecord, ParamsEstimate)
 
 
 @dataclass
@@ -164,6 +168,8 @@ class LiveView:
         self.ready = threading.Event()
         """set once the subscriber has joined: nothing published from then on is missed"""
         self._scenes: dict[str, AxisScene] = {}
+        self._adapted: set[str] = set()
+        """axes whose adaptive node has been heard (their column has its views)"""
         self._pending: dict[tuple[str, str, str], list[bytes]] = defaultdict(list)
         self._routes: dict[str, tuple[str, str] | None] = {}
         self._latency = DurationHistogram(limit_us=1_000_000)
@@ -248,15 +254,20 @@ class LiveView:
         scene = self._scenes.get(label)
         if scene is None:
             scene = self._scenes[label] = AxisScene(self.out.rec, AxisEntities(label), self.params)
-            self.out.send_blueprint(view_blueprint(sorted(self._scenes)))
+            self.out.send_blueprint(view_blueprint(sorted(self._scenes), self._adapted))
         return scene
+
+    def _adapted_axis(self, label: str) -> None:
+        if label not in self._adapted:
+            self._adapted.add(label)
+            self.out.send_blueprint(view_blueprint(sorted(self._scenes), self._adapted))
 
     def _flush(self) -> None:
         """Hand every pending batch to its scene: records first, then setpoints, then samples."""
         if not self._pending:
             return
         pending, self._pending = self._pending, defaultdict(list)
-        order = {"plan": 0, "event": 1, "setpoint": 2, "state": 3}
+        order = {"plan": 0, "event": 1, "params": 2, "setpoint": 3, "state": 4}
         for (label, kind, key), payloads in sorted(pending.items(), key=lambda kv: order[kv[0][1]]):
             scene = self._scene(label)
             if kind in ("state", "setpoint"):
@@ -267,6 +278,9 @@ class LiveView:
                 self._measure_latency(samples.stamp_ns)
             elif kind == "event":
                 scene.add_statuses(self._decode_each(key, payloads, MoveStatus.decode))
+            elif kind == "params":
+                self._adapted_axis(label)
+                scene.add_params(self._decode_each(key, payloads, ParamsEstimate.decode))
             else:
                 scene.add_plans(self._decode_each(key, payloads, PlanRecord.decode))
         self.report.batches += 1

@@ -10,6 +10,8 @@ way points), what they were planned to cost and what they cost.
   by the trapezoidal rule at 1 kHz (:func:`axisflow.model.trace_energy`), g the energy accounting of
   the parameters — what ``axisflow table2`` reports as E_exp per move. A move that was dropped,
   rejected or stopped early gets none.
+* Once both are known, the move's E% = (E_th − E_exp)/E_th·100 (the paper's definition, per move: what
+  ``axisflow table2 --per-move`` writes), at the move's end tick.
 
 :class:`MoveLedger` takes the records and the measured samples in any order and in batches (a log at
 once, the network as it comes) and hands back each point once it is known.
@@ -49,11 +51,14 @@ class MovePoints:
     waypoints: list[MovePoint] = field(default_factory=list)
     planned_energy: list[MovePoint] = field(default_factory=list)
     measured_energy: list[MovePoint] = field(default_factory=list)
+    energy_error: list[MovePoint] = field(default_factory=list)
+    """E% of each move [%]"""
 
     def extend(self, other: MovePoints) -> None:
         self.waypoints += other.waypoints
         self.planned_energy += other.planned_energy
         self.measured_energy += other.measured_energy
+        self.energy_error += other.energy_error
 
 
 @dataclass(frozen=True)
@@ -73,6 +78,8 @@ class MoveLedger:
         self._planned_done: set[tuple[str, int]] = set()
         self._open: dict[tuple[str, int], _Span] = {}
         """spans whose measured energy is still to come"""
+        self._measured: dict[tuple[str, int], float] = {}
+        """measured energies of the moves whose plan has not come yet"""
         self._samples: list[AxisSamples] = []
         self._newest_ns: int | None = None
         self.unmeasured = 0
@@ -118,6 +125,8 @@ class MoveLedger:
                     self.unmeasured += 1
                 else:
                     points.measured_energy.append(point)
+                    self._measured[key] = point.value
+                    points.energy_error += self._error(key)
         self._trim()
         return points
 
@@ -153,4 +162,15 @@ class MoveLedger:
         self._planned_done.add(key)
         points.waypoints.append(MovePoint(span.end_ns, plan.end_position_m, plan.move_id))
         points.planned_energy.append(MovePoint(span.end_ns, plan.energy_j, plan.move_id))
+        points.energy_error += self._error(key)
         return points
+
+    def _error(self, key: tuple[str, int]) -> list[MovePoint]:
+        """The move's E% once its plan, span and measured energy are all known (once)."""
+        plan, span, measured = self._plans.get(key), self._spans.get(key), self._measured.get(key)
+        if plan is None or span is None or measured is None or key not in self._planned_done:
+            return []
+        del self._measured[key]
+        if plan.energy_j == 0.0:
+            return []
+        return [MovePoint(span.end_ns, (plan.energy_j - measured) / plan.energy_j * 100.0, plan.move_id)]

@@ -10,13 +10,15 @@ they are in the messages (float64), so a recording read back equals its log.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 import rerun as rr
 
 from ..acquisition.wire.move_status import MoveState, MoveStatus
+from ..acquisition.wire.params_estimate import PARAMETER_NAMES, ParamsEstimate
 from ..acquisition.wire.plan_record import PlanRecord
-from ..model import AxisParams
+from ..model import AxisParams, friction_force
 from .entities import TIMELINE, AxisEntities
 from .moves import MoveLedger, MovePoint, MovePoints
 from .samples import AxisSamples
@@ -34,6 +36,16 @@ LIMIT = (214, 39, 40)
 WAYPOINT = (44, 160, 44)
 PLANNED = (255, 127, 14)
 ERROR = (148, 103, 189)
+START = (127, 127, 127)
+PARAMETER_COLOURS = {
+    "M_eq": (140, 86, 75),
+    "a1": (31, 119, 180),
+    "a2": (214, 39, 40),
+    "a3": (44, 160, 44),
+    "a4": (148, 103, 189),
+}
+FRICTION_POINTS = 201
+"""points of a friction curve F_c(ẋ) over [−v_max, v_max]"""
 _LEVELS = {
     MoveState.ACCEPTED: rr.TextLogLevel.INFO,
     MoveState.STARTED: rr.TextLogLevel.DEBUG,
@@ -95,6 +107,7 @@ def log_styles(rec: rr.RecordingStream, e: AxisEntities) -> None:
         e.waypoints: ("way point (plan end)", WAYPOINT, "Diamond"),
         e.energy_measured: ("measured ∫g(τ_m·ω_m)dt", MEASURED, "Circle"),
         e.energy_planned: ("planned E_th", PLANNED, "Cross"),
+        e.energy_error: ("E% = (E_th − E_exp)/E_th", ERROR, "Circle"),
     }
     for path, (name, colour, marker) in points.items():
         rec.log(
@@ -138,11 +151,85 @@ def log_power(rec: rr.RecordingStream, e: AxisEntities, measured: AxisSamples) -
 
 
 def log_move_points(rec: rr.RecordingStream, e: AxisEntities, points: MovePoints) -> None:
-    """Way points (the plans' end positions [m]) and per-move energy [J], measured and planned, each
-    at the move's end tick."""
+    """Way points (the plans' end positions [m]), per-move energy [J], measured and planned, and each
+    move's E% [%], at the move's end tick."""
     _send_points(rec, e.waypoints, points.waypoints)
     _send_points(rec, e.energy_planned, points.planned_energy)
     _send_points(rec, e.energy_measured, points.measured_energy)
+    _send_points(rec, e.energy_error, points.energy_error)
+
+
+def log_parameter_styles(rec: rr.RecordingStream, e: AxisEntities) -> None:
+    """Names and colours of the adapted parameters' series (static)."""
+    for name, colour in PARAMETER_COLOURS.items():
+        names = [name, f"{name} + σ", f"{name} − σ"]
+        rec.log(
+            e.parameter(name),
+            rr.SeriesLines(names=names, colors=[colour] * 3, widths=[1.5, 0.5, 0.5]),
+            static=True,
+        )
+        rec.log(
+            e.rejected_parameter(name),
+            rr.SeriesPoints(names=f"{name}, turned down", colors=[colour], markers="Cross", marker_sizes=3.0),
+            static=True,
+        )
+
+
+def log_parameters(
+    rec: rr.RecordingStream, e: AxisEntities, records: Sequence[ParamsEstimate], start: ParamsEstimate
+) -> None:
+    """An adaptive node's estimates over time, each parameter in % of version 0 (``start``): the accepted
+    ones with their ±σ band (three series), the turned-down ones as points (at the window's end)."""
+    base = start.value_of
+    for name in PARAMETER_NAMES:
+        accepted = [r for r in records if r.accepted and np.isfinite(r.value_of[name])]
+        if accepted:
+            stamps = np.array([r.stamp_ns for r in accepted], np.int64)
+            value = np.array([r.value_of[name] for r in accepted])
+            sigma = np.nan_to_num(np.array([r.std_of[name] for r in accepted]))
+            columns = np.column_stack([value, value + sigma, value - sigma]) / base[name] * 100.0 - 100.0
+            send_scalars(rec, e.parameter(name), stamps, columns)
+        turned = [r for r in records if not r.accepted and np.isfinite(r.value_of[name])]
+        if turned:
+            stamps = np.array([r.stamp_ns for r in turned], np.int64)
+            value = np.array([r.value_of[name] for r in turned]) / base[name] * 100.0 - 100.0
+            send_scalars(rec, e.rejected_parameter(name), stamps, value)
+
+
+def friction_curve(record: ParamsEstimate, v_max: float) -> np.ndarray:
+    """(n, 2): F_c(ẋ) [N] of a record's a1…a4 at n speeds over [−v_max, v_max] [m/s]."""
+    values = record.value_of
+    v = np.linspace(-v_max, v_max, FRICTION_POINTS)
+    law = _Friction(values["a1"], values["a2"], values["a3"], values["a4"])
+    return np.column_stack([v, friction_force(v, law)])
+
+
+@dataclass(frozen=True)
+class _Friction:
+    """a1…a4 of eq. (1), what :func:`~axisflow.model.friction_force` reads."""
+
+    a1: float
+    a2: float
+    a3: float
+    a4: float
+
+
+def log_friction(
+    rec: rr.RecordingStream, e: AxisEntities, record: ParamsEstimate, start: ParamsEstimate, v_max: float
+) -> None:
+    """The friction curve of the accepted set ``record`` (at its time) beside version 0's (static)."""
+    rec.log(
+        e.friction_start,
+        rr.LineStrips2D([friction_curve(start, v_max)], colors=[START], labels=["version 0"]),
+        static=True,
+    )
+    rec.set_time(TIMELINE, timestamp=np.datetime64(record.stamp_ns, "ns"))
+    rec.log(
+        e.friction_now,
+        rr.LineStrips2D(
+            [friction_curve(record, v_max)], colors=[MEASURED], labels=[f"version {record.version}"]
+        ),
+    )
 
 
 def log_move_statuses(rec: rr.RecordingStream, e: AxisEntities, statuses: Sequence[MoveStatus]) -> None:
@@ -173,6 +260,10 @@ class AxisScene:
         self._moves = MoveLedger(params.energy_accounting)
         self._span: tuple[int, int] | None = None
         """the times the limit lines reach"""
+        self._start: ParamsEstimate | None = None
+        """an adaptive node's version 0 (its parameters are drawn relative to it)"""
+        self._early: list[ParamsEstimate] = []
+        """estimates that came before version 0"""
         self._seen: tuple[int, int] | None = None
         """the first and last stamp of the samples"""
         log_styles(rec, entities)
@@ -209,6 +300,23 @@ class AxisScene:
         for plan in plans:
             points.extend(self._moves.add_plan(plan))
         log_move_points(self.rec, self.entities, points)
+
+    def add_params(self, records: Sequence[ParamsEstimate]) -> None:
+        """An adaptive node's estimates: the parameters over time and the friction curve now and at the
+        start (nothing until its version 0 has come: the parameters are drawn relative to it)."""
+        e = self.entities
+        if self._start is None:
+            initial = [r for r in records if r.decision == "initial"]
+            if not initial:
+                self._early += records
+                return
+            self._start = initial[0]
+            log_parameter_styles(self.rec, e)
+            records, self._early = [*self._early, *records], []
+        log_parameters(self.rec, e, records, self._start)
+        for record in records:
+            if record.accepted:
+                log_friction(self.rec, e, record, self._start, self.params.v_max)
 
     def finish(self) -> None:
         """Draw the limits to the last sample seen (a live view extends them in steps)."""

@@ -1,11 +1,11 @@
 """A view of recorded sessions: the axes of one or more MCAP logs as one rerun recording.
 
 An axis is found by its topics (docs/acquisition.md): ``/<prefix>/<axis>/state`` and ``…/setpoint``
-(``sensor_msgs/msg/JointState``), ``…/event`` (``axisflow_msgs/msg/MoveStatus``) and ``…/plan``
-(``axisflow_msgs/msg/PlanResult``); an axis needs a state or a setpoint topic, the others are drawn
-when present. The logs of a session (e.g. the demo's excitation and experiment recordings) land in
-one recording, each axis in one column of the layout, the logs one after the other on the drive-time
-timeline.
+(``sensor_msgs/msg/JointState``), ``…/event`` (``axisflow_msgs/msg/MoveStatus``), ``…/plan``
+(``axisflow_msgs/msg/PlanResult``) and ``…/params`` (``axisflow_msgs/msg/ParamsEstimate``, an adaptive
+node's); an axis needs a state or a setpoint topic, the others are drawn when present. The logs of a
+session (e.g. the demo's excitation and experiment recordings) land in one recording, each axis in one
+column of the layout, the logs one after the other on the drive-time timeline.
 
 Reading uses the fast column reader (:func:`~axisflow.acquisition.read_joint_states`, ~1 s per hour
 of a 1 kHz topic; the state and setpoint topics of an axis are read at once, on two threads) and
@@ -26,6 +26,7 @@ import rerun.blueprint as rrb
 
 from ..acquisition.logs.reader import TopicInfo, list_topics, read_joint_states, read_messages
 from ..acquisition.wire.move_status import MOVE_STATUS_TYPE, MoveStatus
+from ..acquisition.wire.params_estimate import PARAMS_ESTIMATE_TYPE, ParamsEstimate
 from ..acquisition.wire.plan_record import PLAN_TYPE, PlanRecord
 from ..model import AxisParams
 from .blueprint import view_blueprint
@@ -35,8 +36,8 @@ from .outputs import RerunOutput, ViewOutput, view_size_estimate
 from .samples import AxisSamples
 from .scene import AxisScene
 
-_AXIS_TOPIC = re.compile(r"^/(?P<prefix>.+)/(?P<axis>[^/]+)/(?P<kind>state|setpoint|event|plan)$")
-_KIND_TYPES = {"event": MOVE_STATUS_TYPE, "plan": PLAN_TYPE}
+_AXIS_TOPIC = re.compile(r"^/(?P<prefix>.+)/(?P<axis>[^/]+)/(?P<kind>state|setpoint|event|plan|params)$")
+_KIND_TYPES = {"event": MOVE_STATUS_TYPE, "plan": PLAN_TYPE, "params": PARAMS_ESTIMATE_TYPE}
 
 
 @dataclass(frozen=True)
@@ -49,6 +50,7 @@ class AxisTopics:
     setpoint: str | None = None
     event: str | None = None
     plan: str | None = None
+    params: str | None = None
 
     @property
     def label(self) -> str:
@@ -108,7 +110,8 @@ class SessionLogs:
         return sorted({a.label for _p, axes in self.logs for a in axes})
 
     def blueprint(self) -> rrb.Blueprint:
-        return view_blueprint(self.labels)
+        adapted = {a.label for _p, axes in self.logs for a in axes if a.params is not None}
+        return view_blueprint(self.labels, adapted)
 
 
 @dataclass
@@ -118,6 +121,8 @@ class AxisSummary:
     setpoint_samples: int = 0
     statuses: int = 0
     plans: int = 0
+    params: int = 0
+    """an adaptive node's estimates"""
 
 
 @dataclass
@@ -133,6 +138,7 @@ class SessionSummary:
             lines.append(
                 f"  axis {a.label}: {a.state_samples} state and {a.setpoint_samples} setpoint samples, "
                 f"{a.statuses} move statuses, {a.plans} plan records"
+                + (f", {a.params} parameter estimates" if a.params else "")
             )
         return "\n".join(lines)
 
@@ -165,6 +171,12 @@ def _log_axis(scene: AxisScene, path: Path, topics: AxisTopics, counts: AxisSumm
         statuses = [MoveStatus.decode(m.data) for m in read_messages(path, topics.event, MOVE_STATUS_TYPE)]
         scene.add_statuses(statuses)
         counts.statuses += len(statuses)
+    if topics.params is not None:
+        records = [
+            ParamsEstimate.decode(m.data) for m in read_messages(path, topics.params, PARAMS_ESTIMATE_TYPE)
+        ]
+        scene.add_params(records)
+        counts.params += len(records)
     with ThreadPoolExecutor(1) as reader:
         # the two topics share the file's chunks: reading them at once keeps both cores busy
         state = reader.submit(read_joint_states, path, topics.state) if topics.state is not None else None

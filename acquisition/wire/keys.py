@@ -10,6 +10,8 @@ Per axis, under a configurable prefix (default ``axisflow``):
   completed, dropped), ``axisflow_msgs/msg/MoveStatus``;
 * ``<prefix>/<axis>/plan`` — what the planner decided for each move (duration, model energy, solve
   time, certificate), ``axisflow_msgs/msg/PlanResult``;
+* ``<prefix>/<axis>/params`` — an adaptive node's parameter estimates, accepted or not
+  (``axisflow adapt``), ``axisflow_msgs/msg/ParamsEstimate``;
 * ``<prefix>/<axis>/alive`` — a Zenoh liveliness token held by the running bridge (not pub/sub data);
 * ``<prefix>/<axis>/sender/<id>`` — a liveliness token held by each move sender while it lives
   (``<id>``: the hex publisher id in its moves' attachments); a bridge runs only moves of live senders;
@@ -79,6 +81,11 @@ class AxisKeys:
     def plan(self) -> str:
         """the planner's plan record of each move"""
         return f"{self.prefix}/{self.axis}/plan"
+
+    @property
+    def params(self) -> str:
+        """an adaptive node's parameter estimates (accepted or not, with the reason)"""
+        return f"{self.prefix}/{self.axis}/params"
 
     @property
     def event(self) -> str:

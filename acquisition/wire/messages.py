@@ -14,6 +14,8 @@ definition with its dependencies, as rosbag2 stores it) so that any tool decodes
   planner decided for each move (duration, model energy, objective, solver status, certificate).
 * ``axisflow_msgs/msg/DriveInfo`` — :class:`~axisflow.acquisition.wire.drive_info.DriveInfo`; what
   drives an axis (the simulated axis and its plant profile, or a real drive).
+* ``axisflow_msgs/msg/ParamsEstimate`` — :class:`~axisflow.acquisition.wire.params_estimate.ParamsEstimate`;
+  an adaptive node's estimate of the axis's parameters, accepted (a new version) or not, and why.
 
 Time stamps are integer nanoseconds since the Unix epoch (``builtin_interfaces/Time`` on the wire).
 """
@@ -37,6 +39,7 @@ from .cdr import (
 )
 from .drive_info import DRIVE_INFO_SCHEMA, DRIVE_INFO_TYPE
 from .move_status import MOVE_STATUS_SCHEMA, MOVE_STATUS_TYPE
+from .params_estimate import PARAMS_ESTIMATE_SCHEMA, PARAMS_ESTIMATE_TYPE
 from .plan_record import PLAN_SCHEMA, PLAN_TYPE
 from .quick_stop import QUICK_STOP_SCHEMA, QUICK_STOP_TYPE
 
@@ -78,6 +81,7 @@ SCHEMAS: dict[str, str] = {
     PLAN_TYPE: PLAN_SCHEMA,
     QUICK_STOP_TYPE: QUICK_STOP_SCHEMA,
     DRIVE_INFO_TYPE: DRIVE_INFO_SCHEMA,
+    PARAMS_ESTIMATE_TYPE: PARAMS_ESTIMATE_SCHEMA,
 }
 """ros2msg schema text by ROS 2 type name, for every type axisflow publishes."""
 

@@ -10,6 +10,11 @@ status) and what it cost (the measured torque and speed).
 move from way point k − 1 to k, and 0 for a move that only brings the axis to the first way point
 (not part of the experiment). The certificate crosses as parallel ``certificate_keys`` and
 ``certificate_values`` (the planner's ``Certificate.to_dict()``; empty when nothing is proved).
+
+``params_version`` names the parameter set the plan used: 0 for the planner's own (``--params``), N for
+version N of an adaptive node's accepted estimates (``axisflow planner --adapt``,
+:mod:`.params_estimate`). It was appended to the record: a record written before it existed decodes
+with 0.
 """
 
 from __future__ import annotations
@@ -52,7 +57,9 @@ PLAN_SCHEMA = schema_with_dependencies(
     "float64 solve_time_s\n"
     "# the certificate's quantities (seconds, joules, J/s), empty when nothing is proved\n"
     "string[] certificate_keys\n"
-    "float64[] certificate_values\n",
+    "float64[] certificate_values\n"
+    "# the parameter set the plan used: 0 the planner's own, N version N of an adaptive node's estimates\n"
+    "uint32 params_version\n",
     *HEADER_DEPENDENCIES,
 )
 
@@ -83,12 +90,16 @@ class PlanRecord:
     iterations: int
     solve_time_s: float
     certificate: dict[str, float] = field(default_factory=dict)
+    params_version: int = 0
+    """the parameter set the plan used (0: the planner's own; see the module docstring)"""
 
     def __post_init__(self) -> None:
         if not 0 <= self.move_id < 2**64:
             raise WireError(f"move_id = {self.move_id} must be in [0, 2**64)")
         if not 0 <= self.waypoint_index < 2**32:
             raise WireError(f"waypoint_index = {self.waypoint_index} must be in [0, 2**32)")
+        if not 0 <= self.params_version < 2**32:
+            raise WireError(f"params_version = {self.params_version} must be in [0, 2**32)")
 
     def encode(self) -> bytes:
         w = CdrWriter()
@@ -110,6 +121,7 @@ class PlanRecord:
         w.float64(self.solve_time_s)
         w.string_sequence(tuple(self.certificate))
         w.float64_sequence(tuple(self.certificate.values()))
+        w.uint32(self.params_version)
         return w.to_bytes()
 
     @classmethod
@@ -125,7 +137,8 @@ class PlanRecord:
         if len(keys) != len(values):
             raise WireError(f"{PLAN_TYPE}: {len(keys)} certificate keys but {len(values)} values")
         certificate = dict(zip(keys, values, strict=True))
+        version = 0 if r.at_end else r.uint32()  # a record written before the field existed: 0
         return cls(
             stamp_ns, axis, move_id, sender, run, index, case, law, solver, omega, x0, x1, duration, energy,
-            accounting, objective, violation, status, iterations, solve_time, certificate,
+            accounting, objective, violation, status, iterations, solve_time, certificate, version,
         )  # fmt: skip

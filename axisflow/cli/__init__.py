@@ -39,6 +39,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "excite_cmd",
     "identify_cmd",
     "planner_cmd",
+    "adapt_cmd",
     "stop_cmd",
     "table2_cmd",
     "replay_cmd",

@@ -76,6 +76,19 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="the bridge's drive: the built-in simulated axis (default), or a simulated CiA 402 drive over "
         "CANopen on an in-process bus (counts, per-mille torque; docs/drives.md)",
     )
+    p.add_argument(
+        "--adapt",
+        action="store_true",
+        help="instead: online re-identification on a warming axis, against the nominal parameters and a "
+        "one-time refit (three warm-up axes at once: `axisflow bench adapt`, docs/adaptation.md)",
+    )
+    p.add_argument(
+        "--adapt-minutes",
+        type=finite_float,
+        default=10.0,
+        metavar="M",
+        help="with --adapt: minutes of axis time of way points per axis (default 10)",
+    )
     p.set_defaults(func=run)
 
 
@@ -86,6 +99,8 @@ def run(args: argparse.Namespace) -> int:
         raise AxisflowError(f"session folder {out} is not empty: choose a new --out")
     if not args.speed >= 0.0:
         raise AxisflowError(f"--speed {args.speed} must be >= 0 (0 = as fast as possible)")
+    if args.adapt:
+        return _adapt(args, out)
     settings = DemoSettings(
         out=out,
         waypoints=args.waypoints,
@@ -128,3 +143,19 @@ def run(args: argparse.Namespace) -> int:
 
 def _pct(value: float | None) -> str:
     return "     – %" if value is None else f"{value:+6.2f} %"
+
+
+def _adapt(args: argparse.Namespace, out: Path) -> int:
+    """The adaptation benchmark as a demo: the same run, its session folder under logs/."""
+    from ..benchmarks import adapt
+
+    bench = argparse.Namespace(
+        minutes=args.adapt_minutes,
+        waypoints=args.waypoints,
+        seed=args.seed,
+        adapt_from="refit",
+        out=str(out),
+        no_rrd=False,
+        json=False,
+    )
+    return adapt.run(bench)

@@ -91,6 +91,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="and at least S seconds of drive time queued (default 0; e.g. 3 for a bridge at --speed 0)",
     )
     p.add_argument("--label", default="", help="label of this run in the plan records (e.g. nominal, refit)")
+    p.add_argument(
+        "--adapt",
+        action="store_true",
+        help="plan each next move with the newest parameter set `axisflow adapt` accepted for this axis "
+        "(on <prefix>/<axis>/params; each plan record names its version; docs/adaptation.md)",
+    )
     p.add_argument("--axis", default=DEFAULT_AXIS, help=f"axis name (default: {DEFAULT_AXIS})")
     p.add_argument("--prefix", default=DEFAULT_PREFIX, help=f"key prefix (default: {DEFAULT_PREFIX})")
     p.add_argument("--json", action="store_true", help="print one JSON object (no progress lines)")
@@ -114,6 +120,7 @@ def run(args: argparse.Namespace) -> int:
         lookahead=args.lookahead,
         lookahead_s=args.lookahead_s,
         label=args.label,
+        adapt=args.adapt,
     )
     if not 0.0 <= args.omega <= 1.0:
         raise AxisflowError(f"--omega {args.omega} is outside [0, 1]")
@@ -149,4 +156,5 @@ def _report_json(report: RunReport) -> dict[str, object]:
         "slack_ms": [m.slack_s * 1e3 for m in moves],
         "idle_ticks": report.idle_ticks,
         "move_ids": [m.command.move_id for m in moves],
+        "params_versions": [m.params_version for m in moves],
     }

@@ -45,7 +45,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--roles",
         default=",".join(DEFAULT_ROLES),
         metavar="R1,R2,…",
-        help="roles to issue: planner, bridge, recorder, or KIND-NAME for more identities of a kind "
+        help="roles to issue: planner, bridge, recorder, adapter, or KIND-NAME for more identities of a kind "
         f"(e.g. planner-cell2); default: {','.join(DEFAULT_ROLES)}",
     )
     init.add_argument(
@@ -89,7 +89,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--roles",
         required=True,
         metavar="R1,R2,…",
-        help="the new roles: planner, bridge, recorder, or KIND-NAME (e.g. recorder-laptop)",
+        help="the new roles: planner, bridge, recorder, adapter, or KIND-NAME (e.g. recorder-laptop)",
     )
     add.add_argument(
         "--days",

@@ -7,7 +7,8 @@ import argparse
 from ..acquisition.logs.reader import check_mcap
 from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
 from ..model.files import check_output_files
-from ..table2 import table_from_recording
+from ..move_energy import write_move_energies
+from ..table2 import move_energies, recorded_runs, table_of_runs
 from ..table2_record import write_table2
 
 
@@ -29,17 +30,26 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--axis", default=DEFAULT_AXIS, help=f"axis name (default: {DEFAULT_AXIS})")
     p.add_argument("--prefix", default=DEFAULT_PREFIX, help=f"key prefix (default: {DEFAULT_PREFIX})")
     p.add_argument("--json", action="store_true", help="print table2.json instead of the table")
+    p.add_argument(
+        "--per-move",
+        action="store_true",
+        help="also write DIR/moves.csv and DIR/moves.json: each move's E_th, E_exp, E% and the parameter "
+        "version its plan used, in the order the moves ran",
+    )
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     recording = check_mcap(args.recording)
-    out = check_output_files(
-        args.out, ("table2.md", "table2.json"), inputs=[recording], overwrite=args.overwrite
-    )
-    table = table_from_recording(args.recording, AxisKeys(args.axis, args.prefix), args.label)
+    names = ("table2.md", "table2.json") + (("moves.csv", "moves.json") if args.per_move else ())
+    out = check_output_files(args.out, names, inputs=[recording], overwrite=args.overwrite)
+    runs, accounting = recorded_runs(args.recording, AxisKeys(args.axis, args.prefix), args.label)
+    table = table_of_runs(runs, accounting, "Table 2, on the axis", str(args.recording))
     json_path, md_path = write_table2(table, out)
+    if args.per_move:
+        write_move_energies(move_energies(runs), out)
     print((json_path if args.json else md_path).read_text(), end="")
     if not args.json:
-        print(f"\nwrote {md_path} and {json_path}")
+        extra = f", {out / 'moves.csv'} and {out / 'moves.json'}" if args.per_move else ""
+        print(f"\nwrote {md_path}, {json_path}{extra}")
     return 0

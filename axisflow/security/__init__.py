@@ -2,7 +2,7 @@
 configuration files of a secure deployment (mutual TLS plus a default-deny access-control list).
 
 Topology: one Zenoh **router** listens on ``tls/HOST:PORT`` and is the only process that listens;
-every role (planner, bridge, recorder) runs as a Zenoh **client** that connects to it. Both sides
+every role (planner, bridge, recorder, adapter) runs as a Zenoh **client** that connects to it. Both sides
 present a certificate of the same private CA (mTLS: ``enable_mtls``); the router admits only links
 whose certificate chains to that CA and applies its access-control list (ACL) to every message on
 each link, keyed on the common name (CN) of the certificate — the role.

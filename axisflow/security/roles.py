@@ -1,9 +1,9 @@
 """The roles of a secure deployment and what each kind may do.
 
-A role is a certificate identity (its common name): ``planner``, ``bridge``, ``recorder``, or one of
-these kinds followed by ``-NAME`` (``planner-cell2``: another planner with its own certificate and
-the same rights). :data:`ROLE_GRANTS` lists everything a kind may do; the access-control list
-(:mod:`.access_control`) denies anything else.
+A role is a certificate identity (its common name): ``planner``, ``bridge``, ``recorder``, ``adapter``,
+or one of these kinds followed by ``-NAME`` (``planner-cell2``: another planner with its own
+certificate and the same rights). :data:`ROLE_GRANTS` lists everything a kind may do; the
+access-control list (:mod:`.access_control`) denies anything else.
 """
 
 from __future__ import annotations
@@ -33,14 +33,17 @@ class Grant:
 
 
 ROLE_GRANTS: dict[str, tuple[Grant, ...]] = {
-    # the planner commands: moves and quick stops, its sender token; it reads what MoveSender and
-    # AxisState read (events, state, setpoint, the bridge's token)
+    # the planner commands: moves and quick stops, its sender token, its plan records; it reads what
+    # MoveSender and AxisState read (events, state, setpoint, the bridge's token) and, with --adapt, an
+    # adaptive node's parameter estimates
     "planner": (
-        Grant("ingress", ("put",), ("*/trajectory", "*/stop")),
+        Grant("ingress", ("put",), ("*/trajectory", "*/stop", "*/plan")),
         Grant("ingress", ("liveliness_token",), ("*/sender/*",)),
-        Grant("ingress", ("declare_subscriber",), ("*/event", "*/state", "*/setpoint", "*/drive")),
+        Grant(
+            "ingress", ("declare_subscriber",), ("*/event", "*/state", "*/setpoint", "*/drive", "*/params")
+        ),
         Grant("ingress", ("declare_liveliness_subscriber", "liveliness_query"), ("*/alive",)),
-        Grant("egress", ("put",), ("*/event", "*/state", "*/setpoint", "*/drive")),
+        Grant("egress", ("put",), ("*/event", "*/state", "*/setpoint", "*/drive", "*/params")),
         Grant("egress", ("liveliness_token",), ("*/alive",)),
         Grant("egress", ("declare_subscriber",), ("**",)),  # who listens to its moves (matching)
     ),
@@ -61,6 +64,14 @@ ROLE_GRANTS: dict[str, tuple[Grant, ...]] = {
         Grant("egress", ("put",), ("**",)),
         Grant("egress", ("liveliness_token",), ("**",)),
     ),
+    # the adaptive node (axisflow adapt) reads the samples and publishes parameter estimates; it cannot
+    # command the axis: a planner decides whether to plan with its estimates (--adapt)
+    "adapter": (
+        Grant("ingress", ("put",), ("*/params",)),
+        Grant("ingress", ("declare_subscriber",), ("*/state",)),
+        Grant("egress", ("put",), ("*/state",)),
+        Grant("egress", ("declare_subscriber",), ("**",)),  # who listens to its estimates (matching)
+    ),
 }
 """everything each kind of role may do; anything else is denied (``default_permission: deny``)"""
 
@@ -68,8 +79,8 @@ _ROLE_NAME = re.compile(r"^(?P<kind>[a-z]+)(?:-(?P<suffix>[a-z0-9][a-z0-9_-]{0,3
 
 
 def role_kind(name: str) -> str:
-    """The kind of a role name: ``planner``, ``bridge``, ``recorder``, or one of them followed by
-    ``-NAME`` (``planner-cell2``: another planner identity with its own certificate)."""
+    """The kind of a role name: ``planner``, ``bridge``, ``recorder``, ``adapter``, or one of them
+    followed by ``-NAME`` (``planner-cell2``: another planner identity with its own certificate)."""
     m = _ROLE_NAME.match(name)
     if m is None or m["kind"] not in ROLE_GRANTS:
         raise SecurityArgumentError(
@@ -95,7 +106,7 @@ def parse_roles(text: str) -> tuple[str, ...]:
 def check_roles(roles: tuple[str, ...]) -> None:
     """At least one role, each of a known kind, none twice; else a :class:`SecurityArgumentError`."""
     if not roles:
-        raise SecurityArgumentError("no role given: at least one of planner, bridge, recorder")
+        raise SecurityArgumentError("no role given: at least one of planner, bridge, recorder, adapter")
     for name in roles:
         role_kind(name)
     if len(set(roles)) != len(roles):
@@ -109,4 +120,5 @@ def how_to_run(directory: Path, role: str) -> str:
         "planner": f"  {role}: open_session(ZenohOptions(config_file=Path('{config}')))",
         "bridge": f"  axisflow bridge --sim --zenoh-config {config}",
         "recorder": f"  axisflow record -o session.mcap --zenoh-config {config}",
+        "adapter": f"  axisflow adapt --axis a0 --zenoh-config {config}",
     }[role_kind(role)]

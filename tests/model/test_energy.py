@@ -11,6 +11,7 @@ from axisflow.model import (
     move_energy,
     polynomial_law,
     trace_energy,
+    trace_energy_at,
 )
 from axisflow.model.limits import execution_times
 
@@ -67,6 +68,22 @@ def test_sampled_trace_energy_converges_to_the_move_energy(accounting):
     f = cart_force(s.velocity_m_s, s.acceleration_m_s2, p)
     sampled = trace_energy(s.velocity_m_s, f, 1 / 20_000.0, accounting)
     assert sampled == pytest.approx(move_energy(move, p, accounting), rel=1e-4)
+
+
+@pytest.mark.parametrize("accounting", list(EnergyAccounting))
+def test_energy_at_uneven_times_is_the_even_one_and_bridges_a_missing_sample(accounting):
+    p = default_params()
+    move = Move(0.6, 0.02, 0.7, polynomial_law("poly5"))
+    t = execution_times(move.duration_s, 1000.0)
+    s = move.sample(t)
+    f = cart_force(s.velocity_m_s, s.acceleration_m_s2, p)
+    even = trace_energy(s.velocity_m_s, f, 1e-3, accounting)
+    assert trace_energy_at(t, s.velocity_m_s, f, accounting) == pytest.approx(even, rel=1e-12)
+    keep = np.ones(t.size, dtype=bool)
+    keep[[100, 350, 600]] = False  # three samples lost: each step of 2 ms spans one
+    bridged = trace_energy_at(t[keep], s.velocity_m_s[keep], f[keep], accounting)
+    assert bridged == pytest.approx(even, rel=1e-4)
+    assert trace_energy_at(t[:1], s.velocity_m_s[:1], f[:1], accounting) == 0.0
 
 
 def test_positive_energy_lies_between_signed_and_absolute():

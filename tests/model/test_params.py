@@ -127,3 +127,14 @@ def test_the_ranges_in_the_docs_are_the_code_s():
     docs = (Path(__file__).parents[2] / "docs" / "parameters.md").read_text("utf-8")
     for key, text, why in ranges_table():
         assert f"| {key} | {text} | {why} |" in docs, key
+
+
+def test_a_new_equivalent_mass_goes_into_the_cart_mass():
+    params = default_params()
+    rotating = params.M_eq - params.m
+    heavier = params.with_equivalent_mass(params.M_eq + 5.0)
+    assert heavier.m == pytest.approx(params.m + 5.0, rel=1e-12)
+    assert heavier.M_eq - heavier.m == pytest.approx(rotating, rel=1e-12)
+    assert (heavier.J_m, heavier.J_g, heavier.J_p) == (params.J_m, params.J_g, params.J_p)
+    with pytest.raises(ParameterError, match="M_eq = 1 kg is not above the rotating parts' share"):
+        params.with_equivalent_mass(1.0)

@@ -11,6 +11,7 @@ import pytest
 from axisflow.acquisition.bus.session import ZenohOptions, open_session
 
 from axisflow.security import SecurityPlan, init_security
+from axisflow.security.roles import DEFAULT_ROLES
 
 from ..conftest import free_port
 
@@ -33,7 +34,7 @@ class Secure:
 def secure(tmp_path_factory) -> Secure:
     port = free_port()
     directory = tmp_path_factory.mktemp("secure") / "axis-security"
-    init_security(SecurityPlan(directory, port=port, days=2))
+    init_security(SecurityPlan(directory, port=port, days=2, roles=(*DEFAULT_ROLES, "adapter")))
     return Secure(directory, port)
 
 

@@ -159,6 +159,14 @@ PUTS = [
     ("bridge", KEYS.event, True),
     ("bridge", KEYS.trajectory, False),
     ("bridge", KEYS.stop, False),
+    ("planner", KEYS.plan, True),  # its plan records
+    ("planner", KEYS.params, False),  # it follows an adaptive node's estimates, it does not make them
+    ("bridge", KEYS.params, False),
+    ("adapter", KEYS.params, True),  # an adaptive node publishes estimates ...
+    ("adapter", KEYS.trajectory, False),  # ... and cannot command the axis
+    ("adapter", KEYS.stop, False),
+    ("adapter", KEYS.state, False),
+    ("recorder", KEYS.params, False),
     ("recorder", KEYS.state, False),  # a recorder only listens
     ("recorder", KEYS.trajectory, False),
     ("recorder", KEYS.stop, False),
@@ -167,17 +175,21 @@ PUTS = [
 
 
 def test_each_identity_puts_only_on_its_keys(secure, router):
-    sessions = {name: open_session(secure.options(name)) for name in ("planner", "bridge", "recorder")}
+    names = ("planner", "bridge", "recorder", "adapter")
+    sessions = {name: open_session(secure.options(name)) for name in names}
     try:
         with watching(secure) as watcher:  # joined: the router has its subscription
             for identity, key, _ in PUTS:
                 for _ in range(3):
                     sessions[identity].put(key, f"{identity}->{key}".encode())
             for identity, session in sessions.items():
-                _through_the_router(session, identity)  # each put refused or passed on by now ...
+                if identity != "adapter":  # it may make no query: its own last put is its barrier
+                    _through_the_router(session, identity)  # each put refused or passed on by now ...
+            sessions["adapter"].put(KEYS.params, b"adapter-end")  # (the router keeps a session's order)
             sessions["bridge"].put(KEYS.state, b"end")  # ... and this one passed on after them
-            assert wait_until(lambda: b"end" in {s.payload.to_bytes() for s in watcher.collect()}, 10.0)
-            got = {s.payload.to_bytes().decode() for s in watcher.collect()} - {"end"}
+            ends = {b"end", b"adapter-end"}
+            assert wait_until(lambda: ends <= {s.payload.to_bytes() for s in watcher.collect()}, 10.0)
+            got = {s.payload.to_bytes().decode() for s in watcher.collect()} - {"end", "adapter-end"}
     finally:
         for session in sessions.values():
             session.close()

@@ -103,7 +103,7 @@ def test_the_zenoh_files_load_and_say_mtls_tls_only_and_default_deny(tmp_path):
 
 
 def test_only_the_planner_may_put_moves_and_stops_and_the_recorder_puts_nothing():
-    acl = acl_config("axisflow", ("planner", "bridge", "recorder", "planner-cell2"))
+    acl = acl_config("axisflow", ("planner", "bridge", "recorder", "planner-cell2", "adapter"))
     puts = {}
     for policy in acl["policies"]:
         rules = [r for r in acl["rules"] if r["id"] in policy["rules"]]
@@ -111,12 +111,13 @@ def test_only_the_planner_may_put_moves_and_stops_and_the_recorder_puts_nothing(
             k for r in rules if "put" in r["messages"] and r["flows"] == ["ingress"] for k in r["key_exprs"]
         )
     assert puts == {
-        "planner": ["axisflow/*/stop", "axisflow/*/trajectory"],
-        "planner-cell2": ["axisflow/*/stop", "axisflow/*/trajectory"],
+        "planner": ["axisflow/*/plan", "axisflow/*/stop", "axisflow/*/trajectory"],
+        "planner-cell2": ["axisflow/*/plan", "axisflow/*/stop", "axisflow/*/trajectory"],
         "bridge": ["axisflow/*/drive", "axisflow/*/event", "axisflow/*/setpoint", "axisflow/*/state"],
         "recorder": [],
+        "adapter": ["axisflow/*/params"],  # estimates only: never a move or a stop
     }
-    assert set(ROLE_GRANTS) == {"planner", "bridge", "recorder"}
+    assert set(ROLE_GRANTS) == {"planner", "bridge", "recorder", "adapter"}
 
 
 def test_an_existing_folder_is_not_overwritten_without_force(tmp_path, capsys):

@@ -18,7 +18,8 @@ from axisflow.acquisition.logs.mcap_writer import Ros2McapWriter
 from axisflow.model import EXECUTION_PERIOD_NS, AxisflowError
 from axisflow.planner import Case
 
-from axisflow.table2 import table_from_recording
+from axisflow.move_energy import read_move_energies
+from axisflow.table2 import move_energies, recorded_runs, table_from_recording
 from axisflow.table2_record import Table2, table_markdown
 
 T0 = 1_700_000_000_000_000_000
@@ -29,7 +30,7 @@ MOVES = [(400, 10.0, 50.0, 1.0), (600, 12.0, 40.0, 2.0), (500, 8.0, 30.0, 1.5)]
 GAP = 7  # idle ticks between move 2 and move 3
 
 
-def _write(path, accounting="positive", lost=()):
+def _write(path, accounting="positive", lost=(), versions=(0, 0, 0), jitter_ns=0):
     """Moves back to back except a gap before the third; over each move ω(t) = W·sin(πt/T) and
     τ(t) = Q·cos(πt/T): power W·Q/2·sin(2πt/T), signed energy 0, positive energy W·Q·T/(2π). The
     samples of the ticks ``lost`` are not written (a recorder that missed them)."""
@@ -46,7 +47,7 @@ def _write(path, accounting="positive", lost=()):
         x0 = 0.1 * k
         record = PlanRecord(
             T0 + k, "a0", k, SENDER, "test", k, "min-time", "poly5", "exact", 0.9, x0, x0 + 0.1,
-            n / 1000, e_th, accounting, n / 10, 0.0, "converged", 0, 1e-4 * k,
+            n / 1000, e_th, accounting, n / 10, 0.0, "converged", 0, 1e-4 * k, {}, versions[k - 1],
         )  # fmt: skip
         w.add(plan, T0, T0, k, record.encode())
         st = MoveStatus(T0 + tick * MS, "a0", MoveState.ACCEPTED, k, tick, tick, tick + n, SENDER, "")
@@ -65,7 +66,8 @@ def _write(path, accounting="positive", lost=()):
         if k in lost:
             continue
         stamp = T0 + k * MS
-        sample = AxisSample(stamp, "a0", 0.0, 0.0, 0.0, 0.0, float(omega[k]), float(torque[k]))
+        late = jitter_ns * (1 if k % 3 == 0 else -1 if k % 3 == 1 else 0)  # a host's clock: ± tens of µs
+        sample = AxisSample(stamp + late, "a0", 0.0, 0.0, 0.0, 0.0, float(omega[k]), float(torque[k]))
         w.add(state, stamp, stamp, k, sample.encode())
         sp = AxisSample(stamp, "a0", 0.0, 0.1 if moving[k] else 0.0, 0.0, 0.0, 0.0, 0.0)
         w.add(setpoint, stamp, stamp, k, sp.encode())
@@ -115,6 +117,25 @@ def test_lost_samples_are_counted_never_integrated_over(tmp_path):
     assert "5 state samples within 1 moves (left out of E_exp and E%" in table_markdown(table)
 
 
+def test_jittered_stamps_belong_to_their_ticks(tmp_path):
+    table = table_from_recording(_write(tmp_path / "j.mcap", jitter_ns=50_000))
+    m = table.rows[0].measured
+    expected = [amp_w * amp_q * (n / 1000) / (2 * math.pi) for n, _e, amp_w, amp_q in MOVES]
+    assert m.state_samples_missing == (0, 0, 0)
+    assert m.energies_j == pytest.approx(expected, rel=1e-4)
+
+
+def test_a_drive_that_lost_a_sample_now_and_then_is_measured_across_the_holes(tmp_path):
+    first = {100 + 50, 100 + 51, 100 + 300}  # two holes inside the first move: 2 ticks, then 1
+    third = {100 + 400 + 600 + GAP + 500}  # the third move's end tick: where it ends is not known
+    table = table_from_recording(_write(tmp_path / "h.mcap", lost=first | third, jitter_ns=20_000))
+    m = table.rows[0].measured
+    expected = [amp_w * amp_q * (n / 1000) / (2 * math.pi) for n, _e, amp_w, amp_q in MOVES]
+    assert m.state_samples_missing == (3, 0, 1)
+    assert m.energies_j[0] == pytest.approx(expected[0], rel=1e-4)
+    assert m.energies_j[2] is None and m.moves_measured == 2
+
+
 def test_the_accounting_is_the_plans(tmp_path):
     table = table_from_recording(_write(tmp_path / "s.mcap", accounting="signed"))
     assert table.rows[0].measured.energies_j == pytest.approx([0, 0, 0], abs=1e-9)
@@ -158,3 +179,30 @@ def test_a_damaged_chunk_is_skipped_and_its_moves_left_unmeasured(tmp_path, dama
     assert [line.split(": warning: ")[0] for line in done.stderr.strip().splitlines()] == [
         "axisflow table2"
     ] * 2
+
+
+def test_each_moves_energies_and_parameter_version_in_the_order_they_ran(tmp_path):
+    second = range(100 + 400 + 200, 100 + 400 + 205)
+    runs, _accounting = recorded_runs(_write(tmp_path / "m.mcap", lost=set(second), versions=(0, 3, 4)))
+    moves = move_energies(runs)
+    expected = [amp_w * amp_q * (n / 1000) / (2 * math.pi) for n, _e, amp_w, amp_q in MOVES]
+    assert [m.move_id for m in moves] == [1, 2, 3] and [m.params_version for m in moves] == [0, 3, 4]
+    assert [m.start_ns for m in moves] == [T0 + 100 * MS, T0 + 500 * MS, T0 + (1100 + GAP) * MS]
+    assert moves[0].end_ns - moves[0].start_ns == 400 * MS
+    assert moves[0].energy_measured_j == pytest.approx(expected[0], rel=1e-4)
+    assert moves[1].energy_measured_j is None and moves[1].energy_error_pct is None  # it lost samples
+    e_th, e_exp = MOVES[2][1], expected[2]
+    assert moves[2].energy_error_pct == pytest.approx((e_th - e_exp) / e_th * 100.0, rel=1e-4)
+
+
+def test_table2_per_move_writes_csv_and_json_that_read_back(tmp_path, cli):
+    path = _write(tmp_path / "m.mcap", versions=(0, 1, 1))
+    out = tmp_path / "out"
+    done = cli.run("table2", str(path), "--out", str(out), "--per-move")
+    assert done.returncode == 0, done.stderr
+    moves = read_move_energies(out / "moves.json")
+    assert moves == move_energies(recorded_runs(path)[0])
+    lines = (out / "moves.csv").read_text().splitlines()
+    assert lines[0].split(",")[-3:] == ["energy_planned_j", "energy_measured_j", "energy_error_pct"]
+    assert len(lines) == 4 and lines[2].split(",")[9] == "1"  # the second move's params_version
+    assert "moves.csv" in done.stdout

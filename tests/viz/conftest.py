@@ -3,6 +3,7 @@ rerun's own reader (`axisflow` subprocesses: the `cli` fixture of tests/conftest
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -15,6 +16,7 @@ from axisflow.acquisition.logs.synthetic_log import SyntheticLogSpec, synthetic_
 from axisflow.acquisition.wire.keys import AxisKeys, topic_for_key
 from axisflow.acquisition.wire.messages import AXIS_JOINTS, JOINT_STATE_TYPE, JointState
 from axisflow.acquisition.wire.move_status import MOVE_STATUS_TYPE
+from axisflow.acquisition.wire.params_estimate import PARAMS_ESTIMATE_TYPE, ParamsEstimate
 from axisflow.acquisition.wire.plan_record import PLAN_TYPE
 from axisflow.model import EXECUTION_PERIOD_NS, default_params
 from rerun.chunk import RrdReader
@@ -49,6 +51,7 @@ def write_test_log(
     seconds: float = 3.0,
     moves: bool = True,
     prefix: str = "axisflow",
+    estimates: Sequence[ParamsEstimate] = (),
 ) -> WrittenLog:
     """A log as `axisflow record` writes it: per axis 1 kHz state and setpoint (the synthetic log's
     motion, encoded message by message), and, with ``moves``, move statuses and plan records of four
@@ -85,6 +88,10 @@ def write_test_log(
                 )
         if moves:
             _write_moves(writer, keys, log, params)
+        if estimates:
+            channel = writer.channel_for(topic_for_key(keys.params), PARAMS_ESTIMATE_TYPE)
+            for n, record in enumerate(estimates, start=1):
+                writer.add(channel, record.stamp_ns, record.stamp_ns, n, record.encode())
     writer.finish()
     return log
 
@@ -179,8 +186,12 @@ class EntityData:
         return arr[:, 0] if arr.ndim == 2 and arr.shape[1] == 1 else arr
 
 
+_COMPONENTS = ("Scalars:scalars", "TextLog:text", "LineStrips2D:strips")
+
+
 def read_rrd(path: Path) -> dict[str, EntityData]:
-    """Every entity of an .rrd by path, through rerun's RrdReader (data columns: Scalars, TextLog)."""
+    """Every entity of an .rrd by path, through rerun's RrdReader (data columns: Scalars, TextLog,
+    LineStrips2D)."""
     rows: dict[str, list[tuple[np.ndarray, list]]] = {}
     static: set[str] = set()
     for chunk in RrdReader(path).store().stream():
@@ -193,7 +204,9 @@ def read_rrd(path: Path) -> dict[str, EntityData]:
         if "stamp" not in names:
             continue
         stamps = batch.column(names.index("stamp")).cast(pa.int64()).to_numpy()
-        component = next(n for n in names if n in ("Scalars:scalars", "TextLog:text"))
+        component = next((n for n in names if n in _COMPONENTS), None)
+        if component is None:
+            continue
         rows.setdefault(entity, []).append((stamps, batch.column(names.index(component)).to_pylist()))
     out = {}
     for entity in set(rows) | static:

@@ -10,11 +10,13 @@ import threading
 import time
 
 import numpy as np
+import pytest
 from axisflow.acquisition import JointState, MoveState, MoveStatus, PlanRecord
 from axisflow.acquisition.bus.publisher import SequencedPublisher, Traffic, wait_for_subscribers
 from axisflow.acquisition.bus.session import ZenohOptions, open_session
 from axisflow.acquisition.wire.messages import AXIS_JOINTS, JOINT_STATE_TYPE
 from axisflow.acquisition.wire.move_status import MOVE_STATUS_TYPE
+from axisflow.acquisition.wire.params_estimate import PARAMS_ESTIMATE_TYPE, Decision, ParamsEstimate
 from axisflow.acquisition.wire.plan_record import PLAN_TYPE
 from axisflow.model import EXECUTION_PERIOD_S, EnergyAccounting, default_params, trace_energy
 from axisflow.viz.live_view import LiveView
@@ -85,6 +87,7 @@ def test_every_record_kind_reaches_the_view(tmp_path, rrd_reader):
                 ("setpoint", JOINT_STATE_TYPE),
                 ("event", MOVE_STATUS_TYPE),
                 ("plan", PLAN_TYPE),
+                ("params", PARAMS_ESTIMATE_TYPE),
             )
         }
         assert wait_for_subscribers(list(pubs.values()), 10)
@@ -111,6 +114,13 @@ def test_every_record_kind_reaches_the_view(tmp_path, rrd_reader):
             0.0,
         )
         pubs["plan"].put(plan.encode())
+        v0 = (params.M_eq, params.a1, params.a2, params.a3, params.a4)
+        v1 = (params.M_eq, params.a1 * 0.9, params.a2 * 0.8, params.a3 * 0.9, params.a4)
+        for record in (
+            ParamsEstimate(t0, "x1", 0, 0, Decision.INITIAL, "start", values=v0),
+            ParamsEstimate(t0 + 300_000_000, "x1", 1, 0, Decision.ACCEPTED, "accepted", ("a2",), v1),
+        ):
+            pubs["params"].put(record.encode(), record.stamp_ns)
         pubs["event"].put(
             MoveStatus(t0, "x1", MoveState.ACCEPTED, 7, 0, 100, 500, sender, "accepted").encode()
         )
@@ -126,12 +136,12 @@ def test_every_record_kind_reaches_the_view(tmp_path, rrd_reader):
                 t0 + 500_000_000, "x1", MoveState.COMPLETED, 7, 500, 100, 500, sender, "completed"
             ).encode()
         )
-        assert wait_until(lambda: view.report.received == 1 + 2 + 2000, 10.0)
+        assert wait_until(lambda: view.report.received == 1 + 2 + 2 + 2000, 10.0)
         stop.set()
         thread.join(10)
         for pub in pubs.values():
             pub.undeclare()
-    assert view.report.received == 1 + 2 + 2000 and view.report.missed == 0
+    assert view.report.received == 1 + 2 + 2 + 2000 and view.report.missed == 0
     data = rrd_reader(out_path)
     assert len(data["/axes/x1/position/measured"].stamp_ns) == 1000
     assert [v[0] for v in data["/axes/x1/events"].values] == ["accepted", "completed"]
@@ -141,3 +151,10 @@ def test_every_record_kind_reaches_the_view(tmp_path, rrd_reader):
     assert energy.stamp_ns.tolist() == [t0 + 500_000_000]
     expected = trace_energy(speed[100:501], torque[100:501], EXECUTION_PERIOD_S, EnergyAccounting.POSITIVE)
     assert energy.scalars().tolist() == [expected]
+    error = data["/axes/x1/energy_error"]  # each move's E%, once its plan and its samples are in
+    assert error.stamp_ns.tolist() == [t0 + 500_000_000]
+    assert error.scalars().tolist() == [(3.0 - expected) / 3.0 * 100.0]
+    a2 = data["/axes/x1/params/a2"]  # in % of version 0, with the ±σ series (σ unknown here: 0)
+    assert a2.stamp_ns.tolist() == [t0, t0 + 300_000_000]
+    assert a2.scalars()[:, 0] == pytest.approx([0.0, -20.0])
+    assert data["/axes/x1/friction/now"].stamp_ns.tolist() == [t0, t0 + 300_000_000]

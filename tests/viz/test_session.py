@@ -9,6 +9,7 @@ import sys
 import numpy as np
 import pytest
 from axisflow.acquisition import read_joint_states
+from axisflow.acquisition.wire.params_estimate import Decision, ParamsEstimate
 from axisflow.model import EXECUTION_PERIOD_S, EnergyAccounting, default_params, trace_energy
 from axisflow.model.files import OutputError
 from axisflow.viz.entities import AxisEntities
@@ -188,3 +189,72 @@ def test_viewing_a_log_does_not_load_zenoh(test_log, tmp_path):
     )
     assert out.stdout.strip() == "[]"
     assert (tmp_path / "x.rrd").stat().st_size > 0
+
+
+def _estimates(start_ns: int) -> list:
+    """An adaptive node's records: version 0, two accepted estimates, one turned down."""
+    p = default_params()
+    nan = float("nan")
+
+    def record(k, version, base, decision, values, std=(nan,) * 5):
+        stamp = start_ns + k * 500_000_000
+        terms = ("M_eq", "a2", "coulomb")
+        return ParamsEstimate(stamp, "a0", version, base, decision, str(decision), terms, values, std)
+
+    v0 = (p.M_eq, p.a1, p.a2, p.a3, p.a4)
+    v1 = (p.M_eq * 1.01, p.a1 * 0.95, p.a2 * 0.9, p.a3 * 0.95, p.a4)
+    v2 = (p.M_eq * 1.01, p.a1 * 0.9, p.a2 * 0.8, p.a3 * 0.9, p.a4)
+    sigma = (0.2, 0.5, 2.0, 1.2, nan)
+    return [
+        record(0, 0, 0, Decision.INITIAL, v0),
+        record(1, 1, 0, Decision.ACCEPTED, v1, sigma),
+        record(2, 1, 1, Decision.NO_IMPROVEMENT, (p.M_eq, p.a1, p.a2 * 0.5, p.a3, p.a4), sigma),
+        record(4, 2, 1, Decision.ACCEPTED, v2, sigma),
+    ]
+
+
+@pytest.fixture(scope="module")
+def adapted(tmp_path_factory):
+    from tests.viz.conftest import write_test_log
+
+    folder = tmp_path_factory.mktemp("adapted")
+    spec_start = write_test_log(folder / "probe.mcap", seconds=0.1, moves=False).start_ns
+    records = _estimates(spec_start)
+    log = write_test_log(folder / "adapted.mcap", estimates=records)
+    rrd = write_session_rrd([log.path], folder / "adapted.rrd", default_params())
+    return log, records, rrd
+
+
+def test_each_moves_e_percent_is_drawn_at_its_end(adapted, rrd_reader):
+    log, _records, rrd = adapted
+    data = rrd_reader(rrd)
+    from axisflow.table2 import move_energies, recorded_runs
+
+    moves = [m for m in move_energies(recorded_runs(log.path)[0]) if m.energy_error_pct is not None]
+    error = data["/axes/a0/energy_error"]
+    assert error.stamp_ns.tolist() == [m.end_ns for m in moves]
+    assert error.scalars() == pytest.approx([m.energy_error_pct for m in moves], rel=1e-12)
+
+
+def test_the_adapted_parameters_their_band_and_the_friction_curves(adapted, rrd_reader):
+    _log, records, rrd = adapted
+    data = rrd_reader(rrd)
+    accepted = [r for r in records if r.accepted]
+    a2 = data["/axes/a0/params/a2"]
+    assert a2.stamp_ns.tolist() == [r.stamp_ns for r in accepted]
+    base = records[0].value_of["a2"]
+    expected = [
+        [(r.value_of["a2"] + s * np.nan_to_num(r.std_of["a2"])) / base * 100 - 100 for s in (0, 1, -1)]
+        for r in accepted
+    ]
+    assert a2.scalars() == pytest.approx(np.array(expected), abs=1e-9)  # −10 % ± 1 % at version 1
+    turned = data["/axes/a0/params/rejected/a2"]
+    assert turned.stamp_ns.tolist() == [records[2].stamp_ns] and turned.scalars() == pytest.approx([-50.0])
+    now = data["/axes/a0/friction/now"]
+    assert now.stamp_ns.tolist() == [r.stamp_ns for r in accepted]
+    curve = np.array(now.values[-1][0])  # the newest: version 2, at +v_max
+    p = default_params()
+    v2 = accepted[-1].value_of
+    at_vmax = v2["a1"] + v2["a2"] * p.v_max + v2["a3"] * np.arctan(v2["a4"] * p.v_max)
+    assert curve[-1] == pytest.approx([p.v_max, at_vmax], rel=1e-6)
+    assert data["/axes/a0/friction/start"].static

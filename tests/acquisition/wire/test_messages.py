@@ -1,5 +1,8 @@
 """Round trips of every wire record, checked against mcap_ros2's independent CDR codec."""
 
+import dataclasses
+import math
+
 import pytest
 from axisflow.acquisition import (
     JOINT_STATE_TYPE,
@@ -15,6 +18,7 @@ from axisflow.acquisition import (
     WireError,
 )
 from axisflow.acquisition.wire.cdr import CdrWriter, write_time
+from axisflow.acquisition.wire.params_estimate import PARAMS_ESTIMATE_TYPE, Decision, ParamsEstimate
 from axisflow.acquisition.wire.quick_stop import QUICK_STOP_TYPE, QuickStop
 from mcap_ros2._dynamic import generate_dynamic, serialize_dynamic
 
@@ -306,3 +310,130 @@ def test_a_hello_round_trips_and_refuses_what_is_not_one():
     ):
         with pytest.raises(WireError, match=says):
             Hello.decode(bad)
+
+
+def test_a_plan_record_carries_its_parameter_version_and_one_written_before_it_decodes_with_zero():
+    from axisflow.acquisition import PLAN_TYPE, PlanRecord
+
+    rec = PlanRecord(
+        1_700_000_000_000_000_123, "a0", 12, "ab" * 16, "adapt", 7, "min-time", "poly5", "exact",
+        0.9, 0.12, 0.55, 1.234, 56.7, "positive", 5.81, 0.0, "converged", 0, 4.2e-5, {"gap_j": 1e-9}, 42,
+    )  # fmt: skip
+    data = rec.encode()
+    assert PlanRecord.decode(data) == rec
+    assert _reference(PLAN_TYPE)(data).params_version == 42
+    old = data[:-4]  # the record as it was before the field was appended (no padding before a uint32)
+    assert PlanRecord.decode(old) == dataclasses.replace(rec, params_version=0)
+
+
+ESTIMATE = ParamsEstimate(
+    stamp_ns=1_700_000_123_000_000_000,
+    axis="a0",
+    version=4,
+    base_version=3,
+    decision=Decision.ACCEPTED,
+    reason="accepted: held-out error 0.0150 N·m against 0.0171 N·m of version 3 (−12.3 %)",
+    fitted=("M_eq", "a2", "coulomb"),
+    values=(115.2, 74.1, 160.3, 198.5, 10.24),
+    std=(0.4, 0.9, 2.2, 2.4, math.nan),
+    window_start_ns=1_700_000_103_000_000_000,
+    window_end_ns=1_700_000_123_000_000_000,
+    samples=1234,
+    fit_rms_nm=0.0148,
+    holdout_rms_nm=0.0150,
+    holdout_rms_kept_nm=0.0171,
+)
+
+
+def test_a_parameter_estimate_round_trips_through_both_codecs():
+    data = ESTIMATE.encode()
+    back = ParamsEstimate.decode(data)
+    assert back.encode() == data  # NaN ≠ NaN: compare the bytes, and the fields one by one
+    assert back.values == ESTIMATE.values and back.std[:4] == ESTIMATE.std[:4] and math.isnan(back.std[4])
+    assert (back.version, back.base_version, back.decision, back.fitted) == (
+        4,
+        3,
+        "accepted",
+        ESTIMATE.fitted,
+    )
+    ref = _reference(PARAMS_ESTIMATE_TYPE)(data)
+    assert (ref.header.frame_id, ref.version, ref.base_version, ref.accepted) == ("a0", 4, 3, True)
+    assert (ref.decision, ref.reason, list(ref.fitted)) == (
+        "accepted",
+        ESTIMATE.reason,
+        list(ESTIMATE.fitted),
+    )
+    assert (ref.m_eq_kg, ref.a1_n, ref.a2_n_s_m, ref.a3_n, ref.a4_s_m) == ESTIMATE.values
+    assert math.isnan(ref.a4_std_s_m) and ref.m_eq_std_kg == 0.4
+    assert ref.window_start.sec * 10**9 + ref.window_start.nanosec == ESTIMATE.window_start_ns
+    assert (ref.samples, ref.fit_rms_nm, ref.holdout_rms_kept_nm) == (1234, 0.0148, 0.0171)
+    encode = serialize_dynamic(PARAMS_ESTIMATE_TYPE, SCHEMAS[PARAMS_ESTIMATE_TYPE])[PARAMS_ESTIMATE_TYPE]
+    time = lambda ns: {"sec": ns // 10**9, "nanosec": ns % 10**9}  # noqa: E731
+    names = ("m_eq_kg", "a1_n", "a2_n_s_m", "a3_n", "a4_s_m")
+    std_names = ("m_eq_std_kg", "a1_std_n", "a2_std_n_s_m", "a3_std_n", "a4_std_s_m")
+    fields = {
+        "header": {"stamp": time(ESTIMATE.stamp_ns), "frame_id": "a0"},
+        "version": 4,
+        "base_version": 3,
+        "accepted": True,
+        "decision": "accepted",
+        "reason": ESTIMATE.reason,
+        "fitted": list(ESTIMATE.fitted),
+        **dict(zip(names, ESTIMATE.values, strict=True)),
+        **dict(zip(std_names, ESTIMATE.std, strict=True)),
+        "window_start": time(ESTIMATE.window_start_ns),
+        "window_end": time(ESTIMATE.window_end_ns),
+        "samples": 1234,
+        "fit_rms_nm": 0.0148,
+        "holdout_rms_nm": 0.0150,
+        "holdout_rms_kept_nm": 0.0171,
+    }
+    assert bytes(encode(fields)) == data
+
+
+def test_a_rejected_estimate_keeps_its_version_and_names_why():
+    kept = dataclasses.replace(ESTIMATE, version=3, decision=Decision.NO_IMPROVEMENT, reason="no better")
+    back = ParamsEstimate.decode(kept.encode())
+    assert (back.version, back.accepted, back.decision) == (3, False, Decision.NO_IMPROVEMENT)
+
+
+@pytest.mark.parametrize(
+    ("changes", "match"),
+    [
+        ({"version": 3}, "version = 3 after a decision accepted on version 3 must be 4"),
+        ({"decision": Decision.UNCERTAIN}, "version = 4 after a decision uncertain on version 3 must be 3"),
+        ({"values": (1.0, 2.0)}, "values has 2 numbers, needs 5"),
+        ({"samples": -1}, "samples = -1 must be in"),
+    ],
+)
+def test_an_inconsistent_estimate_is_a_wire_error(changes, match):
+    with pytest.raises(WireError, match=match):
+        dataclasses.replace(ESTIMATE, **changes)
+
+
+def test_an_estimate_whose_flag_contradicts_its_decision_is_a_wire_error():
+    data = bytearray(ESTIMATE.encode())
+    head = CdrWriter()  # the fields before the flag: stamp, frame id, version, base version
+    write_time(head, ESTIMATE.stamp_ns)
+    head.string("a0")
+    head.uint32(4)
+    head.uint32(3)
+    flag = len(head.to_bytes())
+    assert data[flag] == 1
+    data[flag] = 0
+    with pytest.raises(WireError, match="accepted = 0 contradicts the decision accepted"):
+        ParamsEstimate.decode(bytes(data))
+
+
+def test_an_estimate_applies_to_a_parameter_set_through_the_cart_mass():
+    from axisflow.model import load_params
+
+    params = load_params(None)
+    applied = ESTIMATE.applied_to(params)
+    assert applied.M_eq == pytest.approx(115.2, rel=1e-12)
+    assert applied.J_m == params.J_m and applied.r == params.r
+    assert (applied.a1, applied.a2, applied.a3, applied.a4) == (74.1, 160.3, 198.5, 10.24)
+    with pytest.raises(WireError, match="has no values"):
+        dataclasses.replace(ESTIMATE, values=(math.nan,) * 5).applied_to(params)
+    with pytest.raises(WireError, match="M_eq = 1 kg is not above the rotating parts' share"):
+        dataclasses.replace(ESTIMATE, values=(1.0, 74.1, 160.3, 198.5, 10.24)).applied_to(params)

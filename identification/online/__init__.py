@@ -1,0 +1,37 @@
+"""Online re-identification: eq. (1)'s friction (and M_eq) refit over a sliding window of live samples,
+and the rules that decide whether an estimate replaces the accepted parameters (docs/adaptation.md).
+
+* :mod:`.ring` — the newest samples of the motor joint, a fixed-size ring of numpy arrays;
+* :mod:`.window` — a window of them as the refit's signals (on the drive's sampling grid, holes counted);
+* :mod:`.drift_fit` — the fit of what drifts (M_eq, a2 and one common scale of a1 and a3 by default),
+  :func:`~axisflow.identification.fit.fit_window` warm-started from the last window;
+* :mod:`.acceptance` — informative window, σ bounds, plausible change, better on held-out samples;
+* :mod:`.adapter` — the state of one axis's adaptation: window → fit → verdict → a
+  :class:`~axisflow.acquisition.wire.params_estimate.ParamsEstimate` record.
+
+No Zenoh here: ``axisflow adapt`` (axisflow/adapt_node.py) feeds an :class:`~.adapter.Adapter` from the
+bus; tests and benchmarks can feed it from anything.
+"""
+
+from __future__ import annotations
+
+from .acceptance import AcceptanceRules, Verdict, WindowFacts
+from .adapter import Adapter, AdaptSettings
+from .drift_fit import COULOMB, DEFAULT_TERMS, DriftFit, check_terms, fit_drift
+from .ring import SampleRing
+from .window import window_signals
+
+__all__ = [
+    "COULOMB",
+    "DEFAULT_TERMS",
+    "AcceptanceRules",
+    "AdaptSettings",
+    "Adapter",
+    "DriftFit",
+    "SampleRing",
+    "Verdict",
+    "WindowFacts",
+    "check_terms",
+    "fit_drift",
+    "window_signals",
+]
