@@ -37,18 +37,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .acquisition import AxisKeys
-from .acquisition.bus.readiness import wait_for_token
-from .acquisition.bus.session import ZenohOptions, open_session
 from .acquisition.drives.plant import DEFAULT_PROFILE, load_profile
 from .acquisition.wire.keys import recorder_token
-from .excite import run_excitation
 from .experiment import CASES, LAWS
-from .identification.excitation import design_excitation
 from .model import AxisflowError, AxisParams, load_params
 from .model.files import write_atomic
 from .paper import FIG5_WAYPOINTS
 from .planner import DEFAULT_OMEGA, make_backend
-from .planner_node import NodeRun, NodeSettings, PlannerNode
 from .processes import Child, Launcher, free_port
 from .table2 import table_from_recording
 from .table2_record import Table2, write_table2
@@ -98,6 +93,10 @@ def run_demo(
     settings: DemoSettings, progress: Callable[[str], None], stop: threading.Event | None = None
 ) -> DemoReport:
     """Run the demo (see the module docstring) into ``settings.out``."""
+    from .acquisition.bus.session import ZenohOptions, open_session
+    from .excite import run_excitation
+    from .identification.excitation import design_excitation
+
     stop = stop or threading.Event()
     out = settings.out
     out.mkdir(parents=True, exist_ok=True)
@@ -191,6 +190,8 @@ class _recording:  # noqa: N801 - a context manager, read as a phrase
         self.proc: Child | None = None
 
     def __enter__(self) -> None:
+        from .acquisition.bus.readiness import wait_for_token
+
         args = ("record", "-o", str(self.path), "--connect", self.endpoint)
         self.proc = self.children.start(f"recorder-{self.path.stem}", *args, ready=True)
         self.children.wait_ready(self.proc, READY_TIMEOUT_S)
@@ -219,6 +220,8 @@ def _run_experiment(
     progress: Callable[[str], None],
     stop: threading.Event,
 ) -> None:
+    from .planner_node import NodeRun, NodeSettings, PlannerNode
+
     runs = tuple(NodeRun(case, law) for case in CASES for law in LAWS)
     node_settings = NodeSettings(keys, runs, DEFAULT_OMEGA, settings.lookahead, settings.lookahead_s, label)
     backend = make_backend(settings.solver)

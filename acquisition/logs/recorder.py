@@ -40,83 +40,27 @@ from pathlib import Path
 
 import zenoh
 
-from ...model.files import OutputError, check_output_file
 from ..bus.publisher import mcap_encoding_of
 from ..bus.readiness import HELLO_TIMEOUT_S, JoinedSubscriber, JoinReport
 from ..bus.session import check_key_expression
 from ..errors import RecordingError
 from ..histogram import DurationHistogram, DurationStats
 from ..wire.attachment import unpack_attachment
-from ..wire.keys import all_keys, recorder_token, topic_for_key
+from ..wire.keys import recorder_token, topic_for_key
 from ..wire.sequence import SequenceTracker
-from .mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE, Ros2McapWriter
+from .mcap_writer import Ros2McapWriter
+from .recorder_config import (
+    LIVE_STAMP_WINDOW_NS,
+    RecorderConfig,
+    check_outputs,
+    split_path,
+)
 
 log = logging.getLogger(__name__)
 
-DEFAULT_QUEUE_CAPACITY = 1 << 16
-"""samples the receive channel holds before it applies back-pressure"""
 _IDLE_SLEEP_S = 0.0005
 _DRAIN_BATCH = 256
 """samples written before the loop looks at the clock again"""
-LIVE_STAMP_WINDOW_NS = 1_000_000_000
-"""a stamp further than this from the wall clock is not live (e.g. a replay): no latency from it"""
-
-
-@dataclass(frozen=True)
-class RecorderConfig:
-    output: Path
-    keys: str = field(default_factory=all_keys)
-    duration_s: float | None = None
-    compression: str = "zstd"
-    flush_interval_s: float = 1.0
-    split_bytes: int | None = None
-    split_duration_s: float | None = None
-    chunk_size: int = DEFAULT_CHUNK_SIZE
-    queue_capacity: int = DEFAULT_QUEUE_CAPACITY
-    join_timeout_s: float = HELLO_TIMEOUT_S
-    """how long the publishers on ``keys`` may take to answer the join's hellos [s]"""
-    overwrite: bool = False
-    """replace existing recordings (``output`` or its split files) instead of refusing to start"""
-
-    def __post_init__(self) -> None:
-        if self.compression not in COMPRESSIONS:
-            raise RecordingError(f"compression {self.compression!r} is not one of {', '.join(COMPRESSIONS)}")
-        for name, value, unit in (
-            ("duration", self.duration_s, "s"),
-            ("flush interval", self.flush_interval_s, "s"),
-            ("split size", self.split_bytes, "bytes"),
-            ("split duration", self.split_duration_s, "s"),
-            ("join timeout", self.join_timeout_s, "s"),
-        ):
-            if value is not None and not value > 0:
-                raise RecordingError(f"recorder {name} = {value} {unit} must be > 0 {unit}")
-        if Path(self.output).suffix != ".mcap":
-            raise RecordingError(f"output {self.output} must end in .mcap")
-        # before any file is opened: a bad expression must not leave an empty recording behind
-        check_key_expression(self.keys)
-
-
-def check_outputs(config: RecorderConfig) -> None:
-    """Refuse to start when the output cannot be written (its folder missing or unwritable, its name
-    too long, a directory) or (without ``overwrite``) the output, or one of its split files, exists
-    already."""
-    out = Path(config.output)
-    split = config.split_bytes is not None or config.split_duration_s is not None
-    try:
-        check_output_file(split_path(out, 0) if split else out, overwrite=True)
-    except OutputError as exc:
-        raise RecordingError(str(exc)) from None
-    if config.overwrite:
-        return
-    existing = sorted(out.parent.glob(f"{out.stem}_[0-9][0-9][0-9][0-9]{out.suffix}")) if split else []
-    if not split and out.exists():
-        existing = [out]
-    if existing:
-        raise RecordingError(
-            f"output {existing[0]} already exists"
-            + (f" (and {len(existing) - 1} more split files)" if len(existing) > 1 else "")
-            + ": choose another name or pass --overwrite"
-        )
 
 
 @dataclass
@@ -234,15 +178,13 @@ class RecordSummary:
         }
 
 
-def split_path(output: Path, index: int) -> Path:
-    return output.with_name(f"{output.stem}_{index:04d}{output.suffix}")
-
-
 class Recorder:
     """Records ``config.keys`` from a session until stopped (see the module docstring)."""
 
     def __init__(self, config: RecorderConfig) -> None:
-        """Checks the outputs (:func:`check_outputs`) before anything is opened."""
+        """Checks the key expression and the outputs (:func:`check_outputs`) before anything is opened: a
+        bad expression must not leave an empty recording behind."""
+        check_key_expression(config.keys)
         check_outputs(config)
         self.config = config
         self.summary = RecordSummary(keys=config.keys)
@@ -319,7 +261,9 @@ class Recorder:
         handler = lambda: zenoh.handlers.FifoChannel(c.queue_capacity)  # noqa: E731
         # joined before the file is created: a recorder that cannot join leaves no file behind
         token = recorder_token(socket.gethostname(), os.getpid())
-        with JoinedSubscriber(session, c.keys, handler, c.join_timeout_s, stop, token) as joined:
+        with JoinedSubscriber(
+            session, c.keys, handler, c.join_timeout_s or HELLO_TIMEOUT_S, stop, token
+        ) as joined:
             if joined.subscriber is None:  # stopped before it was ready: nothing to write
                 self.summary.wall_time_s = time.monotonic() - t0
                 return self.summary

@@ -6,9 +6,8 @@ import argparse
 import json
 from pathlib import Path
 
-from ..acquisition.bus.session import open_session
 from ..acquisition.logs.mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE
-from ..acquisition.logs.recorder import DEFAULT_QUEUE_CAPACITY, Recorder, RecorderConfig
+from ..acquisition.logs.recorder_config import DEFAULT_QUEUE_CAPACITY, RecorderConfig
 from ..acquisition.wire.keys import all_keys
 from ..arguments import finite_float, positive_int
 from ..processes import notify_ready, stop_on_signals
@@ -78,6 +77,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..acquisition.bus.session import open_session
+    from ..acquisition.logs.recorder import Recorder
+
     config = RecorderConfig(
         output=Path(args.output),
         keys=args.keys,
