@@ -66,6 +66,7 @@ from ..drives.drive import STOPPING_EVENTS, Drive, DriveEvent, DriveEventKind
 from ..errors import AcquisitionError, AxisTakenError, WireError, zenoh_reason
 from ..histogram import DurationHistogram, DurationStats
 from ..wire.attachment import unpack_attachment
+from ..wire.axis_sample_encoder import AxisSampleEncoder
 from ..wire.drive_info import DRIVE_INFO_TYPE, DriveInfo
 from ..wire.drive_info import PERIOD_TICKS as DRIVE_INFO_PERIOD
 from ..wire.keys import AxisKeys, sender_of_token
@@ -252,6 +253,7 @@ class Bridge:
         """why the drive follows no setpoints (None: it follows); moves are refused meanwhile"""
         self._reset_sender = ""
         """the hex id of whoever asked for the running fault reset (its answer carries it)"""
+        self._encoder = AxisSampleEncoder(self.keys.axis)
         self._consumers: MatchWatch | None = None
         """at speed 0: whether anyone subscribes to the state, setpoint or event"""
 
@@ -360,7 +362,7 @@ class Bridge:
         status = self.drive.status()
         self._take_drive_events(sample.position_m)
         if status.fresh:
-            self._state_pub.put(sample.encode())
+            self._state_pub.put(self._encoder.encode_sample(sample))
         else:
             self.report.stale_ticks += 1
         step = queue.advance(self.tick)
@@ -373,8 +375,11 @@ class Bridge:
             q = step.started
             self._status(MoveState.STARTED, q, f"started move {q.command.move_id}")
         if status.commanded and status.following:
-            setpoint = step.setpoint.to_sample(self._stamp(), self.keys.axis, self.params)
-            self._setpoint_pub.put(setpoint.encode())
+            sp, (angle, speed, torque) = step.setpoint, step.motor  # Setpoint.to_sample's motor joint
+            payload = self._encoder.encode(
+                self._stamp(), sp.position_m, angle, sp.velocity_m_s, speed, sp.force_ff_n, torque
+            )
+            self._setpoint_pub.put(payload)
         drive = self.config.drive
         if self._drive_pub is not None and drive is not None and self.tick % DRIVE_INFO_PERIOD == 0:
             info = dataclasses.replace(drive, stamp_ns=self._stamp(), axis=self.keys.axis)
