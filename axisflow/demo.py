@@ -52,10 +52,10 @@ from .waypoints import random_waypoints
 DEFAULT_WAYPOINTS = 50
 """way points of Fig. 5 (the paper's 25)"""
 DEFAULT_LOOKAHEAD = 1
-DEFAULT_LOOKAHEAD_S = 10.0
-"""drive time kept queued behind the running move [s]: at --speed 0 the bridge runs ~11× real time on
+DEFAULT_LOOKAHEAD_S = 60.0
+"""drive time kept queued behind the running move [s]: at --speed 0 the bridge runs ~40× real time on
 two cores shared by three processes, and a planner that loses the CPU for 150 ms (seen on a loaded
-machine) finds the queue 1.6 s of drive time shorter"""
+machine) finds the queue 6 s of drive time shorter (docs/performance.md)"""
 READY_TIMEOUT_S = 60.0
 """how long the bridge, or a recorder, may take to start (and the recorder to join) [s]"""
 

@@ -164,7 +164,7 @@ class PlannerNode:
     def __enter__(self) -> PlannerNode:
         keys = self.settings.keys
         self._sender = MoveSender(self._session, keys)
-        self._setpoint = AxisState(self._session, keys, "setpoint")
+        self._setpoint = AxisState(self._session, keys, "setpoint", follow=False)
         self._plans = SequencedPublisher(self._session, keys.plan, PLAN_TYPE, Traffic.COMMAND)
         try:
             self._sender.require_bridge(BRIDGE_TIMEOUT_S)
