@@ -11,9 +11,11 @@ from ...model.files import OutputError, check_output_file
 from ..errors import RecordingError
 from ..wire.keys import all_keys
 from .mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE
+from .recording_writer import DEFAULT_BACKLOG_BYTES
 
 DEFAULT_QUEUE_CAPACITY = 1 << 16
-"""samples the receive channel holds before it applies back-pressure"""
+"""samples Zenoh's receive channel holds before it applies back-pressure (a JointState sample held
+there costs ~0.5 kB: ~35 MB when full; docs/performance.md)"""
 LIVE_STAMP_WINDOW_NS = 1_000_000_000
 """a stamp further than this from the wall clock is not live (e.g. a replay): no latency from it"""
 
@@ -29,6 +31,9 @@ class RecorderConfig:
     split_duration_s: float | None = None
     chunk_size: int = DEFAULT_CHUNK_SIZE
     queue_capacity: int = DEFAULT_QUEUE_CAPACITY
+    backlog_bytes: int = DEFAULT_BACKLOG_BYTES
+    """received and not yet written (the writer's chunks in memory): past it, messages are dropped whole,
+    counted per topic, reported once a second and recorded in the file (RecordingWriter)"""
     join_timeout_s: float | None = None
     """how long the publishers on ``keys`` may take to answer the join's hellos [s] (None: the default of
     :mod:`~axisflow.acquisition.bus.readiness`)"""
@@ -44,9 +49,15 @@ class RecorderConfig:
             ("split size", self.split_bytes, "bytes"),
             ("split duration", self.split_duration_s, "s"),
             ("join timeout", self.join_timeout_s, "s"),
+            ("backlog", self.backlog_bytes, "bytes"),
         ):
             if value is not None and not value > 0:
                 raise RecordingError(f"recorder {name} = {value} {unit} must be > 0 {unit}")
+        if not self.backlog_bytes >= self.chunk_size:
+            raise RecordingError(
+                f"recorder backlog = {self.backlog_bytes} bytes must be >= the chunk size, "
+                f"{self.chunk_size} bytes"
+            )
         if Path(self.output).suffix != ".mcap":
             raise RecordingError(f"output {self.output} must end in .mcap")
 
