@@ -84,6 +84,11 @@ CONSUMER_POLL_S = 0.1
 """how often a bridge at speed 0 waiting for a consumer looks at its stop event [s]"""
 SENDER_GRACE_S = 0.5
 """how long [s of wall time] a move may wait for its sender's liveliness token to arrive"""
+NEXT_MOVE_GRACE_S = 0.25
+"""at speed 0, how long [s of wall time] the loop waits at the tick where its last queued move ends,
+while a sender is alive, for that sender's next move: a planner that plans while the axis runs ~40×
+real time can be a few milliseconds behind the axis, and at speed 0 no clock is owed anything (an
+appended move that arrives meanwhile starts at that very tick: no idle tick)"""
 MOVES_PER_TICK = 4
 """moves the loop takes per tick from the intake, and from those waiting for their sender's token:
 a burst of thousands (valid or not) is spread over ticks instead of stalling one, since each costs a
@@ -358,6 +363,8 @@ class Bridge:
         self._apply_sender_tokens()
         self._take_stops()
         self._take_moves()
+        if self.config.speed == 0 and self._running_dry(queue) and self._intake.wait(NEXT_MOVE_GRACE_S):
+            self._take_moves()
         sample = self.drive.read()
         status = self.drive.status()
         self._take_drive_events(sample.position_m)
@@ -387,6 +394,16 @@ class Bridge:
         self.drive.apply(step.setpoint)
         self._send_statuses(STATUSES_PER_TICK)
         self.tick += 1
+
+    def _running_dry(self, queue: MoveQueue) -> bool:
+        """Whether the last queued move ends at this tick while a sender is alive and nothing waits."""
+        return (
+            len(queue) > 0
+            and queue.end_tick(self.tick) == self.tick
+            and bool(self._alive)
+            and not self._pending
+            and self._intake.waiting == 0
+        )
 
     def _apply_sender_tokens(self) -> None:
         assert self._queue is not None

@@ -2,6 +2,7 @@
 sender that disappears dropped while the running one ends at rest, moves of senders without a
 liveliness token refused (real sessions on tcp/127.0.0.1, in-process)."""
 
+import itertools
 import signal
 import threading
 import time
@@ -49,10 +50,12 @@ def _drain(sub) -> list:
 class _Bridge:
     """A bridge on its own thread with an observer session subscribed to state, setpoint and event."""
 
-    def __init__(self, port: int, duration_s: float) -> None:
+    def __init__(self, port: int, duration_s: float, speed: float = 2.0) -> None:
         self.port = port
         self.drive = SimulatedAxis(load_plant(None, PARAMS), PARAMS, T0, axis="a0")
-        self.config = BridgeConfig(keys=KEYS, speed=2.0, duration_s=duration_s, wait_subscribers_s=10.0)
+        self.config = BridgeConfig(keys=KEYS, speed=speed, duration_s=duration_s, wait_subscribers_s=10.0)
+        # every setpoint of the run fits in the observer's channel (at speed 0 a full one would pace it)
+        self.setpoint_capacity = max(20_000, round(duration_s * 1000) + 1000)
         self.report = None
         self.statuses: list[MoveStatus] = []
 
@@ -62,7 +65,7 @@ class _Bridge:
         self._state = self._observer.declare_subscriber(KEYS.state, zenoh.handlers.RingChannel(1))
         self._joined = [  # joined: they miss nothing the bridge publishes
             JoinedSubscriber(self._observer, key, lambda n=n: zenoh.handlers.FifoChannel(n)).__enter__()
-            for key, n in ((KEYS.setpoint, 20_000), (KEYS.event, 100))
+            for key, n in ((KEYS.setpoint, self.setpoint_capacity), (KEYS.event, 100))
         ]
         self.setpoints, self.events = (j.subscriber for j in self._joined)
         self._thread = threading.Thread(target=self._run)
@@ -174,6 +177,24 @@ def test_a_sender_that_disappears_mid_move_leaves_the_axis_at_rest_and_its_queue
     assert x[-1] == pytest.approx(0.6) and v[-1] == 0.0  # ... and the axis holds there, at rest
     assert np.abs(v).max() <= PARAMS.v_max
     assert bridge.drive.position_m == pytest.approx(0.6, abs=5e-4)
+
+
+def test_at_speed_0_the_next_move_of_a_live_sender_starts_where_the_last_one_ends(port):
+    # at speed 0 a 100 ms move runs in a few milliseconds of wall time: less than a sender may need to
+    # see it start and send the next one; the bridge waits for it at the tick where the queue runs dry
+    with _Bridge(port, duration_s=60.0, speed=0.0) as bridge:
+        with _live_sender(port) as sender:
+            x = 0.0
+            for k in range(5):
+                cmd = sender.send(x, 0.005 - x, 0.1)
+                x = 0.005 - x
+                assert sender.wait_status(cmd.move_id, {MoveState.STARTED}, 20.0) is not None, k
+            assert sender.wait_status(cmd.move_id, {MoveState.COMPLETED}, 20.0) is not None
+            accepted = [st for st in sender.statuses if st.state is MoveState.ACCEPTED]
+        bridge.finish()  # its 60 s of drive time, then it reports
+    assert len(accepted) == 5
+    assert [b.start_tick - a.end_tick for a, b in itertools.pairwise(accepted)] == [0, 0, 0, 0]
+    assert bridge.report is not None and bridge.report.moves_completed == 5
 
 
 def test_moves_of_a_publisher_without_a_sender_token_are_refused(port):
