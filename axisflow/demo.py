@@ -122,6 +122,7 @@ def run_demo(
             ready=True,
         )  # fmt: skip
         children.wait_ready(bridge, READY_TIMEOUT_S)
+        report.phases_s["start-up"] = time.monotonic() - t_start
         with open_session(ZenohOptions(connect=(endpoint,))) as session:
             keys = AxisKeys()
             # 1. excitation
@@ -154,19 +155,25 @@ def run_demo(
                 with _recording(children, session, path, endpoint):
                     progress(f"experiment, {label} parameters: {len(waypoints)} way points, 2 cases × 3 laws")
                     _run_experiment(session, keys, params, label, waypoints, settings, progress, stop)
-                report.tables[label] = _table(out, path, label)
                 report.phases_s[f"experiment-{label}"] = time.monotonic() - t0
+                t0 = time.monotonic()
+                report.tables[label] = _table(out, path, label)
+                report.phases_s[f"table2-{label}"] = time.monotonic() - t0
                 _check_stop(stop)
+        t0 = time.monotonic()
         children.stop(bridge)
+        report.phases_s["bridge-stop"] = time.monotonic() - t0
         t0 = time.monotonic()
         from .viz.figures import write_figures  # rerun and matplotlib: loaded when the demo draws
         from .viz.session import write_session_rrd
 
         recordings = [out / "excitation.mcap", out / "experiment-nominal.mcap", out / "experiment-refit.mcap"]
         write_session_rrd(recordings, out / "session.rrd", nominal)
+        report.phases_s["session-rrd"] = time.monotonic() - t0
+        t0 = time.monotonic()
         first = random_waypoints(FIG5_WAYPOINTS, settings.seed, nominal)
         write_figures(out / "figures", refit, first, excitation=out / "excitation.mcap")
-        report.phases_s["pictures"] = time.monotonic() - t0
+        report.phases_s["figures"] = time.monotonic() - t0
         progress(f"rerun recording {out / 'session.rrd'}, figures in {out / 'figures'}")
     finally:
         children.close()
