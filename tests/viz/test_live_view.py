@@ -10,6 +10,7 @@ import threading
 import time
 
 import numpy as np
+import pytest
 from axisflow.acquisition import JointState, MoveState, MoveStatus, PlanRecord
 from axisflow.acquisition.bus.publisher import SequencedPublisher, Traffic, wait_for_subscribers
 from axisflow.acquisition.bus.session import ZenohOptions, open_session
@@ -23,6 +24,7 @@ from axisflow.viz.outputs import RerunOutput, ViewOutput
 from axisflow.processes import free_port, wait_until
 
 
+@pytest.mark.slow
 def test_a_live_view_of_a_bridge_holds_every_published_sample(cli, tmp_path, rrd_reader):
     port = cli.free_port()
     out = tmp_path / "live.rrd"

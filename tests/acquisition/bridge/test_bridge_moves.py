@@ -50,12 +50,10 @@ def _drain(sub) -> list:
 class _Bridge:
     """A bridge on its own thread with an observer session subscribed to state, setpoint and event."""
 
-    def __init__(self, port: int, duration_s: float, speed: float = 2.0) -> None:
+    def __init__(self, port: int, duration_s: float) -> None:
         self.port = port
         self.drive = SimulatedAxis(load_plant(None, PARAMS), PARAMS, T0, axis="a0")
-        self.config = BridgeConfig(keys=KEYS, speed=speed, duration_s=duration_s, wait_subscribers_s=10.0)
-        # every setpoint of the run fits in the observer's channel (at speed 0 a full one would pace it)
-        self.setpoint_capacity = max(20_000, round(duration_s * 1000) + 1000)
+        self.config = BridgeConfig(keys=KEYS, speed=2.0, duration_s=duration_s, wait_subscribers_s=10.0)
         self.report = None
         self.statuses: list[MoveStatus] = []
 
@@ -65,7 +63,7 @@ class _Bridge:
         self._state = self._observer.declare_subscriber(KEYS.state, zenoh.handlers.RingChannel(1))
         self._joined = [  # joined: they miss nothing the bridge publishes
             JoinedSubscriber(self._observer, key, lambda n=n: zenoh.handlers.FifoChannel(n)).__enter__()
-            for key, n in ((KEYS.setpoint, self.setpoint_capacity), (KEYS.event, 100))
+            for key, n in ((KEYS.setpoint, 20_000), (KEYS.event, 100))
         ]
         self.setpoints, self.events = (j.subscriber for j in self._joined)
         self._thread = threading.Thread(target=self._run)
@@ -118,6 +116,7 @@ def _live_sender(port: int):
         yield sender
 
 
+@pytest.mark.slow
 def test_moves_queue_back_to_back_and_bad_ones_are_rejected(port):
     with _Bridge(port, duration_s=4.0) as bridge:
         with _live_sender(port) as sender:
@@ -158,6 +157,7 @@ def test_moves_queue_back_to_back_and_bad_ones_are_rejected(port):
     assert bridge.drive.position_m == pytest.approx(0.1, abs=5e-4)
 
 
+@pytest.mark.slow
 def test_a_sender_that_disappears_mid_move_leaves_the_axis_at_rest_and_its_queue_dropped(port):
     with _Bridge(port, duration_s=5.0) as bridge:
         with _live_sender(port) as sender:
@@ -179,22 +179,40 @@ def test_a_sender_that_disappears_mid_move_leaves_the_axis_at_rest_and_its_queue
     assert bridge.drive.position_m == pytest.approx(0.6, abs=5e-4)
 
 
+@pytest.mark.slow
 def test_at_speed_0_the_next_move_of_a_live_sender_starts_where_the_last_one_ends(port):
     # at speed 0 a 100 ms move runs in a few milliseconds of wall time: less than a sender may need to
     # see it start and send the next one; the bridge waits for it at the tick where the queue runs dry
-    with _Bridge(port, duration_s=60.0, speed=0.0) as bridge:
-        with _live_sender(port) as sender:
-            x = 0.0
-            for k in range(5):
-                cmd = sender.send(x, 0.005 - x, 0.1)
-                x = 0.005 - x
-                assert sender.wait_status(cmd.move_id, {MoveState.STARTED}, 20.0) is not None, k
-            assert sender.wait_status(cmd.move_id, {MoveState.COMPLETED}, 20.0) is not None
-            accepted = [st for st in sender.statuses if st.state is MoveState.ACCEPTED]
-        bridge.finish()  # its 60 s of drive time, then it reports
+    drive = SimulatedAxis(load_plant(None, PARAMS), PARAMS, T0, axis="a0")
+    stop = threading.Event()
+    reports = []
+    with (
+        open_session(ZenohOptions.loopback(listen_port=port)) as bridge_session,
+        open_session(ZenohOptions.loopback(connect_port=port)) as observer,
+    ):
+        # a consumer that never holds the bridge back (at speed 0 it runs as fast as consumers allow)
+        state = observer.declare_subscriber(KEYS.state, zenoh.handlers.RingChannel(1))
+        config = BridgeConfig(keys=KEYS, speed=0.0, wait_subscribers_s=10.0)
+        thread = threading.Thread(
+            target=lambda: reports.append(run_bridge(bridge_session, drive, PARAMS, config, stop))
+        )
+        thread.start()
+        try:
+            with _live_sender(port) as sender:
+                x = 0.0
+                for k in range(5):
+                    cmd = sender.send(x, 0.005 - x, 0.1)
+                    x = 0.005 - x
+                    assert sender.wait_status(cmd.move_id, {MoveState.STARTED}, 20.0) is not None, k
+                assert sender.wait_status(cmd.move_id, {MoveState.COMPLETED}, 20.0) is not None
+                accepted = [st for st in sender.statuses if st.state is MoveState.ACCEPTED]
+        finally:
+            stop.set()
+            thread.join(timeout=30)
+            state.undeclare()
     assert len(accepted) == 5
     assert [b.start_tick - a.end_tick for a, b in itertools.pairwise(accepted)] == [0, 0, 0, 0]
-    assert bridge.report is not None and bridge.report.moves_completed == 5
+    assert reports and reports[0].moves_completed == 5
 
 
 def test_moves_of_a_publisher_without_a_sender_token_are_refused(port):
@@ -271,6 +289,7 @@ def test_a_test_can_drive_the_bridge_tick_by_tick(port):
     assert bridge.report.ticks == bridge.tick and bridge.report.moves_completed == 1
 
 
+@pytest.mark.slow
 def test_a_sampled_move_and_a_polynomial_move_run_back_to_back(port):
     """A trajectory (knots 1 ms apart) sent with send_trajectory runs knot for knot; the poly5 move
     sent after it is appended with no idle tick."""
