@@ -37,18 +37,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .acquisition import AxisKeys
-from .acquisition.bus.readiness import wait_for_token
-from .acquisition.bus.session import ZenohOptions, open_session
 from .acquisition.drives.plant import DEFAULT_PROFILE, load_profile
 from .acquisition.wire.keys import recorder_token
-from .excite import run_excitation
 from .experiment import CASES, LAWS
-from .identification.excitation import design_excitation
 from .model import AxisflowError, AxisParams, load_params
 from .model.files import write_atomic
 from .paper import FIG5_WAYPOINTS
 from .planner import DEFAULT_OMEGA, make_backend
-from .planner_node import NodeRun, NodeSettings, PlannerNode
 from .processes import Child, Launcher, free_port
 from .table2 import table_from_recording
 from .table2_record import Table2, write_table2
@@ -57,10 +52,10 @@ from .waypoints import random_waypoints
 DEFAULT_WAYPOINTS = 50
 """way points of Fig. 5 (the paper's 25)"""
 DEFAULT_LOOKAHEAD = 1
-DEFAULT_LOOKAHEAD_S = 10.0
-"""drive time kept queued behind the running move [s]: at --speed 0 the bridge runs ~11× real time on
+DEFAULT_LOOKAHEAD_S = 60.0
+"""drive time kept queued behind the running move [s]: at --speed 0 the bridge runs ~40× real time on
 two cores shared by three processes, and a planner that loses the CPU for 150 ms (seen on a loaded
-machine) finds the queue 1.6 s of drive time shorter"""
+machine) finds the queue 6 s of drive time shorter (docs/performance.md)"""
 READY_TIMEOUT_S = 60.0
 """how long the bridge, or a recorder, may take to start (and the recorder to join) [s]"""
 
@@ -98,6 +93,10 @@ def run_demo(
     settings: DemoSettings, progress: Callable[[str], None], stop: threading.Event | None = None
 ) -> DemoReport:
     """Run the demo (see the module docstring) into ``settings.out``."""
+    from .acquisition.bus.session import ZenohOptions, open_session
+    from .excite import run_excitation
+    from .identification.excitation import design_excitation
+
     stop = stop or threading.Event()
     out = settings.out
     out.mkdir(parents=True, exist_ok=True)
@@ -123,6 +122,7 @@ def run_demo(
             ready=True,
         )  # fmt: skip
         children.wait_ready(bridge, READY_TIMEOUT_S)
+        report.phases_s["start-up"] = time.monotonic() - t_start
         with open_session(ZenohOptions(connect=(endpoint,))) as session:
             keys = AxisKeys()
             # 1. excitation
@@ -155,19 +155,25 @@ def run_demo(
                 with _recording(children, session, path, endpoint):
                     progress(f"experiment, {label} parameters: {len(waypoints)} way points, 2 cases × 3 laws")
                     _run_experiment(session, keys, params, label, waypoints, settings, progress, stop)
-                report.tables[label] = _table(out, path, label)
                 report.phases_s[f"experiment-{label}"] = time.monotonic() - t0
+                t0 = time.monotonic()
+                report.tables[label] = _table(out, path, label)
+                report.phases_s[f"table2-{label}"] = time.monotonic() - t0
                 _check_stop(stop)
+        t0 = time.monotonic()
         children.stop(bridge)
+        report.phases_s["bridge-stop"] = time.monotonic() - t0
         t0 = time.monotonic()
         from .viz.figures import write_figures  # rerun and matplotlib: loaded when the demo draws
         from .viz.session import write_session_rrd
 
         recordings = [out / "excitation.mcap", out / "experiment-nominal.mcap", out / "experiment-refit.mcap"]
         write_session_rrd(recordings, out / "session.rrd", nominal)
+        report.phases_s["session-rrd"] = time.monotonic() - t0
+        t0 = time.monotonic()
         first = random_waypoints(FIG5_WAYPOINTS, settings.seed, nominal)
         write_figures(out / "figures", refit, first, excitation=out / "excitation.mcap")
-        report.phases_s["pictures"] = time.monotonic() - t0
+        report.phases_s["figures"] = time.monotonic() - t0
         progress(f"rerun recording {out / 'session.rrd'}, figures in {out / 'figures'}")
     finally:
         children.close()
@@ -191,6 +197,8 @@ class _recording:  # noqa: N801 - a context manager, read as a phrase
         self.proc: Child | None = None
 
     def __enter__(self) -> None:
+        from .acquisition.bus.readiness import wait_for_token
+
         args = ("record", "-o", str(self.path), "--connect", self.endpoint)
         self.proc = self.children.start(f"recorder-{self.path.stem}", *args, ready=True)
         self.children.wait_ready(self.proc, READY_TIMEOUT_S)
@@ -219,6 +227,8 @@ def _run_experiment(
     progress: Callable[[str], None],
     stop: threading.Event,
 ) -> None:
+    from .planner_node import NodeRun, NodeSettings, PlannerNode
+
     runs = tuple(NodeRun(case, law) for case in CASES for law in LAWS)
     node_settings = NodeSettings(keys, runs, DEFAULT_OMEGA, settings.lookahead, settings.lookahead_s, label)
     backend = make_backend(settings.solver)

@@ -97,7 +97,7 @@ def run_excitation(
     t0 = time.monotonic()
     with (
         MoveSender(session, keys) as sender,
-        AxisState(session, keys, "setpoint") as setpoint,
+        AxisState(session, keys, "setpoint", follow=False) as setpoint,
         DriveWatch(session, keys) as drive,
     ):
         sender.require_bridge(BRIDGE_TIMEOUT_S)

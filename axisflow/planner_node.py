@@ -198,7 +198,7 @@ class PlannerNode:
     def __enter__(self) -> PlannerNode:
         keys = self.settings.keys
         self._sender = MoveSender(self._session, keys)
-        self._setpoint = AxisState(self._session, keys, "setpoint")
+        self._setpoint = AxisState(self._session, keys, "setpoint", follow=False)
         self._plans = SequencedPublisher(self._session, keys.plan, PLAN_TYPE, Traffic.COMMAND)
         try:
             if self.settings.adapt:

@@ -35,17 +35,17 @@ import time
 from contextlib import ExitStack
 from dataclasses import replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from axisflow.acquisition.drives.canopen.config import DriveConfig, config_from_mapping
-from axisflow.acquisition.drives.canopen.master import open_master
-from axisflow.acquisition.drives.canopen.sim_drive import SimulatedDrive
 from axisflow.acquisition.drives.drive import Setpoint
 from axisflow.acquisition.drives.sim_axis import PlantConfig, SimulatedAxis, load_plant
 from axisflow.benchmarks.pipeline import free_port
 from axisflow.model import AxisParams, Move, cart_force, default_params, polynomial_law
 
 from axisflow.arguments import finite_float, positive_int
+
+if TYPE_CHECKING:  # python-can and canopen load when the benchmark runs
+    from axisflow.acquisition.drives.canopen.config import DriveConfig
 
 CLI = [sys.executable, "-c", "import sys; from axisflow.cli import main; sys.exit(main())"]
 
@@ -93,6 +93,8 @@ def _simulated_axis(params: AxisParams, setpoints: list[Setpoint], ticks: int) -
 
 
 def _bus(drives: int, channel: str) -> DriveConfig:
+    from axisflow.acquisition.drives.canopen.config import config_from_mapping
+
     # as the packaged simulation: the drives' threads share this process and a loaded machine
     waits = {"pdo_timeout_ms": 2000, "heartbeat_timeout_ms": 2000}
     tables = [
@@ -103,6 +105,9 @@ def _bus(drives: int, channel: str) -> DriveConfig:
 
 
 def _canopen(params: AxisParams, setpoints: list[Setpoint], ticks: int, drives: int) -> dict[str, float]:
+    from axisflow.acquisition.drives.canopen.master import open_master
+    from axisflow.acquisition.drives.canopen.sim_drive import SimulatedDrive
+
     config = _bus(drives, f"bench-drives-{drives}-{os.getpid()}")
     plant = _plant(params)
     with ExitStack() as stack:

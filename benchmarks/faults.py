@@ -8,36 +8,37 @@ fault and returns a result object whose rows this prints; tests/faults asserts o
 from __future__ import annotations
 
 import argparse
+import importlib
 import json
 import sys
 import tempfile
 import time
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from axisflow.acquisition.drives.plant import load_plant
 from axisflow.model import AxisflowError, default_params
 
-from axisflow.faults.bad_payloads import bad_payloads
-from axisflow.faults.bridge_kill import bridge_kill
-from axisflow.faults.move_flood import move_flood
-from axisflow.faults.outcome import FaultResult, Outcome
-from axisflow.faults.planner_kill import planner_kill
-from axisflow.faults.quick_stop import quick_stop
-from axisflow.faults.recorder_kill import recorder_kill
-from axisflow.faults.session_faults import session_faults
+if TYPE_CHECKING:
+    from axisflow.faults.outcome import FaultResult, Outcome
 
 SCENARIOS: dict[str, Callable[[Path, Any], FaultResult]] = {
-    "recorder_kill": lambda work, _args: recorder_kill(work),
-    "bridge_kill": lambda work, _args: bridge_kill(work),
-    "planner_kill": lambda work, _args: planner_kill(work),
-    "bad_payloads": lambda work, args: bad_payloads(work, per_sender=args.payloads),
-    "move_flood": lambda work, _args: move_flood(work),
-    "session_faults": lambda work, args: session_faults(work, peers=args.peers),
-    "quick_stop": lambda work, _args: quick_stop(work),
+    "recorder_kill": lambda work, _args: _scenario("recorder_kill")(work),
+    "bridge_kill": lambda work, _args: _scenario("bridge_kill")(work),
+    "planner_kill": lambda work, _args: _scenario("planner_kill")(work),
+    "bad_payloads": lambda work, args: _scenario("bad_payloads")(work, per_sender=args.payloads),
+    "move_flood": lambda work, _args: _scenario("move_flood")(work),
+    "session_faults": lambda work, args: _scenario("session_faults")(work, peers=args.peers),
+    "quick_stop": lambda work, _args: _scenario("quick_stop")(work),
 }
 """the scenarios by the name ``--only`` takes, in the order they run"""
+
+
+def _scenario(name: str) -> Callable[..., FaultResult]:
+    """The function of scenario ``name``: its module :mod:`axisflow.faults.<name>` (with Zenoh) loads
+    when it runs, not when ``axisflow`` parses its command line."""
+    return getattr(importlib.import_module(f"axisflow.faults.{name}"), name)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -67,6 +68,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run_scenario(name: str, work: Path, args: argparse.Namespace) -> tuple[list[Outcome], float]:
     """One scenario's rows and its wall time [s]; a scenario that cannot run is one failed row."""
     work.mkdir(parents=True, exist_ok=True)
+    from axisflow.faults.outcome import Outcome
+
     t0 = time.monotonic()
     try:
         rows = SCENARIOS[name](work, args).outcomes()

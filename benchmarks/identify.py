@@ -10,7 +10,9 @@ Steps:
    between runs);
 2. ``axisflow identify`` on it in a fresh process: its own stage timings (read, prepare, solve,
    total), the process's peak RSS, and how far the refit lands from the true parameters;
-3. the baseline, in another fresh process: reading the same topic with per-message CDR decoding
+3. the baselines, each in another fresh process: reading the same topic with the ``mcap`` library
+   alone (``make_reader(f).iter_messages(topics=[topic])``, every message's bytes, no decoding: the
+   floor of a per-message reader in Python), and with per-message CDR decoding
    (``read_joint_states(..., per_message=True)``, each payload through :meth:`JointState.decode`), the
    read the refit would need without the vectorised path.
 
@@ -40,6 +42,17 @@ from axisflow.cli import main
 rc = main(["identify", sys.argv[1], "--out", sys.argv[2], "--json"])
 peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 sys.stderr.write(json.dumps({"rc": rc, "peak_rss_mb": peak_mb}))
+"""
+_MCAP_ALONE = """
+import json, resource, sys, time
+from mcap.reader import make_reader
+t0 = time.perf_counter()
+n = 0
+with open(sys.argv[1], "rb") as fh:
+    for _schema, _channel, message in make_reader(fh).iter_messages(topics=[sys.argv[2]]):
+        n += len(message.data) > 0
+print(json.dumps({"read_s": time.perf_counter() - t0, "rows": n,
+                  "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
 """
 _PER_MESSAGE = """
 import json, resource, sys, time
@@ -110,6 +123,11 @@ def run(args: argparse.Namespace) -> int:
             "relative_error": {n: values[n] / truth[n] - 1.0 for n in values},
             "fit_rms_nm": report["fit"]["rms_nm"],
         }
+        _say(args, "baseline: the mcap library alone, every message of the topic (fresh process)")
+        alone = _child(_MCAP_ALONE, str(log), spec.topic("state"))
+        if alone.returncode != 0:
+            raise RuntimeError(f"mcap baseline failed: {alone.stderr.strip()[-2000:]}")
+        result["mcap_alone"] = json.loads(alone.stdout)
         if not args.no_baseline:
             _say(args, "baseline: per-message decoding of the same topic (fresh process)")
             base = _child(_PER_MESSAGE, str(log), spec.topic("state"))
@@ -131,6 +149,13 @@ def _print_table(r: dict) -> None:
     print(
         f"identify benchmark: a {r['hours']:g} h synthetic 1 kHz log ({i['samples']} samples, "
         f"{r['log_mb']:.0f} MB); true parameters: the plant {r['plant']}"
+    )
+    alone = r["mcap_alone"]
+    print(
+        f"baseline, the mcap library alone: every message of the topic read in {alone['read_s']:.2f} s "
+        f"(peak RSS {alone['peak_rss_mb']:.0f} MB); identify's read {i['read']:.2f} s: ratio "
+        f"{i['read'] / alone['read_s']:.2f}, the whole refit {i['total']:.2f} s: ratio "
+        f"{i['total'] / alone['read_s']:.2f}"
     )
     print(f"{'':28} {'seconds':>8} {'per-message':>12} {'ratio':>7}")
     base = r.get("per_message")

@@ -30,7 +30,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import minimize_scalar
 
 from ..model import AxisParams
 from .fit import FitResult, FrictionFit
@@ -82,6 +81,8 @@ def estimate_delay(
 ) -> DelayEstimate:
     """δ [s] minimising the residual sum of squares of a fit of ``fit`` (and the extra terms) on samples
     ``parts`` of ``logs``, with its σ (see the module docstring)."""
+    from scipy.optimize import minimize_scalar  # scipy loads on first use, not with the package
+
     total = sum(p.size for p in parts)
     step = max(1, total // SEARCH_SAMPLES)
     chosen = [p[::step] for p in parts]

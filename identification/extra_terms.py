@@ -24,7 +24,6 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import butter, sosfiltfilt
 
 from ..model import AxisParams
 from .errors import IdentificationError
@@ -148,6 +147,8 @@ def _cogging_columns(
     orders: tuple[int, ...], log: PreparedLog, nominal: AxisParams, preparation: PreparationSettings
 ) -> list[np.ndarray]:
     """−(i_r/r)·filt(sin nθ), −(i_r/r)·filt(cos nθ) per order, at every sample (module docstring)."""
+    from scipy.signal import butter, sosfiltfilt  # scipy loads on first use, not with the package
+
     n = len(log.signals.t_s)
     rate = log.signals.rate_hz
     per_metre = nominal.i_r / nominal.r

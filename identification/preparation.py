@@ -36,7 +36,6 @@ from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
-from scipy.signal import butter, sosfiltfilt
 
 from .errors import IdentificationError
 from .signals import JointSignals
@@ -117,6 +116,8 @@ class PreparedLog:
 def prepare(signals: JointSignals, settings: PreparationSettings, effort_limit: float) -> PreparedLog:
     """Filter, differentiate and mark the samples of one log (see the module docstring);
     ``effort_limit`` is the drive's limit in the joint's effort units (tau_max [N·m], F_max [N])."""
+    from scipy.signal import butter, sosfiltfilt  # scipy loads on first use, not with the package
+
     rate = signals.rate_hz
     if settings.cutoff_hz >= 0.5 * rate:
         raise IdentificationError(
@@ -160,6 +161,8 @@ def filter_reach_s(cutoff_hz: float, rate_hz: float, order: int = 4, share: floa
     """Half-width [s] of the window around a sample that holds ``share`` of the absolute impulse
     response of the acceleration estimate (zero-phase Butterworth, then two central differences): how
     far a hole's filled values reach into the fitted signals."""
+    from scipy.signal import butter, sosfiltfilt  # scipy loads on first use, not with the package
+
     n = 2 * round(8.0 * rate_hz / cutoff_hz) + 1
     impulse = np.zeros(n)
     impulse[n // 2] = 1.0

@@ -34,8 +34,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.ndimage import median_filter
-from scipy.signal import butter, sosfreqz, welch
 
 SEGMENT_S = 1.024
 """length of the time-domain Welch segments [s] (resolution ≈ 1 Hz); halved, down to
@@ -150,6 +148,8 @@ def _welch_runs(
     series: list[np.ndarray], masks: list[np.ndarray], rate_hz: float, nperseg: int
 ) -> tuple[np.ndarray, np.ndarray, int]:
     """Welch's average over every segment inside every run; (frequencies, one-sided PSD, segments)."""
+    from scipy.signal import welch  # scipy loads on first use, not with the package
+
     total, count = None, 0
     freqs = np.fft.rfftfreq(nperseg, 1.0 / rate_hz)
     for x, mask in zip(series, masks, strict=True):
@@ -165,6 +165,8 @@ def _welch_runs(
 
 def _filter_power_bandwidth(rate_hz: float, cutoff_hz: float, order: int) -> float:
     """∫|H(f)|⁴ df over [0, rate/2] [Hz]: the zero-phase filter's noise bandwidth."""
+    from scipy.signal import butter, sosfreqz  # scipy loads on first use, not with the package
+
     sos = butter(order, cutoff_hz, fs=rate_hz, output="sos")
     f, h = sosfreqz(sos, worN=1 << 16, fs=rate_hz)
     return float(np.trapezoid(np.abs(h) ** 4, f))
@@ -172,6 +174,8 @@ def _filter_power_bandwidth(rate_hz: float, cutoff_hz: float, order: int) -> flo
 
 def _peaks(freqs: np.ndarray, psd: np.ndarray, width: int, exclude_below: float) -> tuple[SpectralPeak, ...]:
     """Contiguous stretches of ``psd`` above PEAK_RATIO × its running median, strongest first."""
+    from scipy.ndimage import median_filter  # scipy loads on first use, not with the package
+
     floor = median_filter(psd, size=2 * width + 1, mode="nearest")
     above = (psd > PEAK_RATIO * floor) & (freqs >= exclude_below)
     step = float(freqs[1] - freqs[0])

@@ -16,7 +16,6 @@ from __future__ import annotations
 from itertools import pairwise
 
 import numpy as np
-from scipy.optimize import brentq
 
 from .dynamics import cart_force
 from .motion_laws import Move
@@ -72,6 +71,8 @@ def move_energy(move: Move, params: AxisParams, accounting: EnergyAccounting | N
     # sample exactly at zero is a cut itself.
     u = _SCAN_U
     p = power(u)
+    from scipy.optimize import brentq  # scipy loads on first use, not when the model is imported
+
     sign = np.sign(p)
     cuts = [0.0]
     for i in np.flatnonzero((sign[:-1] * sign[1:] < 0) | (sign[:-1] == 0.0)):

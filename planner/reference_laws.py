@@ -41,7 +41,6 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
-from scipy.optimize import brentq, minimize_scalar
 
 from ..model import AxisParams, EnergyAccounting, MoveError, forward_friction
 from ..model.deadline import Deadline, iteration_cap
@@ -201,6 +200,8 @@ def friction_limited_speed(params: AxisParams) -> float:
 def _brent(f, a: float, b: float, what: str, xtol: float = 1e-15, rtol: float = 1e-15) -> float:  # noqa: ANN001
     """Brent's root of f on [a, b], capped at :data:`_BRENT_STEPS` steps."""
     try:
+        from scipy.optimize import brentq  # scipy loads on first use, not with the planner package
+
         return brentq(f, a, b, xtol=xtol, rtol=rtol, maxiter=_BRENT_STEPS)
     except RuntimeError:  # pragma: no cover - bracketed, smooth and monotone
         raise iteration_cap(what, _BRENT_STEPS) from None
@@ -321,6 +322,8 @@ def _least_energy(D: float, T: float, params: AxisParams, acc: EnergyAccounting)
 
     best = with_ratio(1.0)
     assert best is not None
+    from scipy.optimize import minimize_scalar
+
     res = minimize_scalar(cost, bounds=(0.0, 1.0), method="bounded", options={"xatol": 1e-7})
     for r in (float(res.x), 0.0):
         cand = with_ratio(r)
@@ -390,6 +393,8 @@ def plan_reference(
         def cost(t: float) -> float:
             deadline.check("the Brent search over the duration")
             return omega * t + (1 - omega) * least_energy(distance_m, t, params).energy(acc)
+
+        from scipy.optimize import minimize_scalar
 
         res = minimize_scalar(cost, bounds=(t_lo, t_max_s), method="bounded", options={"xatol": 1e-7})
         t = float(res.x)

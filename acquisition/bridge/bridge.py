@@ -66,6 +66,7 @@ from ..drives.drive import STOPPING_EVENTS, Drive, DriveEvent, DriveEventKind
 from ..errors import AcquisitionError, AxisTakenError, WireError, zenoh_reason
 from ..histogram import DurationHistogram, DurationStats
 from ..wire.attachment import unpack_attachment
+from ..wire.axis_sample_encoder import AxisSampleEncoder
 from ..wire.drive_info import DRIVE_INFO_TYPE, DriveInfo
 from ..wire.drive_info import PERIOD_TICKS as DRIVE_INFO_PERIOD
 from ..wire.keys import AxisKeys, sender_of_token
@@ -83,6 +84,11 @@ CONSUMER_POLL_S = 0.1
 """how often a bridge at speed 0 waiting for a consumer looks at its stop event [s]"""
 SENDER_GRACE_S = 0.5
 """how long [s of wall time] a move may wait for its sender's liveliness token to arrive"""
+NEXT_MOVE_GRACE_S = 0.25
+"""at speed 0, how long [s of wall time] the loop waits at the tick where its last queued move ends,
+while a sender is alive, for that sender's next move: a planner that plans while the axis runs ~40×
+real time can be a few milliseconds behind the axis, and at speed 0 no clock is owed anything (an
+appended move that arrives meanwhile starts at that very tick: no idle tick)"""
 MOVES_PER_TICK = 4
 """moves the loop takes per tick from the intake, and from those waiting for their sender's token:
 a burst of thousands (valid or not) is spread over ticks instead of stalling one, since each costs a
@@ -252,6 +258,7 @@ class Bridge:
         """why the drive follows no setpoints (None: it follows); moves are refused meanwhile"""
         self._reset_sender = ""
         """the hex id of whoever asked for the running fault reset (its answer carries it)"""
+        self._encoder = AxisSampleEncoder(self.keys.axis)
         self._consumers: MatchWatch | None = None
         """at speed 0: whether anyone subscribes to the state, setpoint or event"""
 
@@ -356,11 +363,13 @@ class Bridge:
         self._apply_sender_tokens()
         self._take_stops()
         self._take_moves()
+        if self.config.speed == 0 and self._running_dry(queue) and self._intake.wait(NEXT_MOVE_GRACE_S):
+            self._take_moves()
         sample = self.drive.read()
         status = self.drive.status()
         self._take_drive_events(sample.position_m)
         if status.fresh:
-            self._state_pub.put(sample.encode())
+            self._state_pub.put(self._encoder.encode_sample(sample))
         else:
             self.report.stale_ticks += 1
         step = queue.advance(self.tick)
@@ -373,8 +382,11 @@ class Bridge:
             q = step.started
             self._status(MoveState.STARTED, q, f"started move {q.command.move_id}")
         if status.commanded and status.following:
-            setpoint = step.setpoint.to_sample(self._stamp(), self.keys.axis, self.params)
-            self._setpoint_pub.put(setpoint.encode())
+            sp, (angle, speed, torque) = step.setpoint, step.motor  # Setpoint.to_sample's motor joint
+            payload = self._encoder.encode(
+                self._stamp(), sp.position_m, angle, sp.velocity_m_s, speed, sp.force_ff_n, torque
+            )
+            self._setpoint_pub.put(payload)
         drive = self.config.drive
         if self._drive_pub is not None and drive is not None and self.tick % DRIVE_INFO_PERIOD == 0:
             info = dataclasses.replace(drive, stamp_ns=self._stamp(), axis=self.keys.axis)
@@ -382,6 +394,16 @@ class Bridge:
         self.drive.apply(step.setpoint)
         self._send_statuses(STATUSES_PER_TICK)
         self.tick += 1
+
+    def _running_dry(self, queue: MoveQueue) -> bool:
+        """Whether the last queued move ends at this tick while a sender is alive and nothing waits."""
+        return (
+            len(queue) > 0
+            and queue.end_tick(self.tick) == self.tick
+            and bool(self._alive)
+            and not self._pending
+            and self._intake.waiting == 0
+        )
 
     def _apply_sender_tokens(self) -> None:
         assert self._queue is not None

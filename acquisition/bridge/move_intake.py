@@ -66,6 +66,8 @@ class MoveIntake:
         self._failure: BaseException | None = None
         self._thread = threading.Thread(target=self._work, name=f"move intake {key}", daemon=True)
         self._sequences = SequenceTracker()
+        self._arrived = threading.Event()
+        """set when a result is put (cleared by :meth:`wait` before it waits)"""
 
     @property
     def missed(self) -> int:
@@ -102,6 +104,7 @@ class MoveIntake:
                     self._stop.wait(_IDLE_S)
                     continue
                 self._results.put(self._receive(sample))
+                self._arrived.set()
                 time.sleep(0)  # hand the interpreter lock to the 1 kHz loop if it waits for it
 
     def _receive(self, sample: zenoh.Sample) -> ReceivedMove:
@@ -144,6 +147,15 @@ class MoveIntake:
     def waiting(self) -> int:
         """Moves received and validated, not yet taken by :meth:`poll`."""
         return self._results.qsize()
+
+    def wait(self, timeout_s: float) -> bool:
+        """Whether a received (and validated) move is waiting, or arrives within ``timeout_s``."""
+        if not self._results.empty():
+            return True
+        self._arrived.clear()
+        if not self._results.empty():
+            return True
+        return self._arrived.wait(timeout_s)
 
     def poll(self, limit: int | None = None) -> list[ReceivedMove]:
         """The moves received and validated since the last call, in arrival order (at most ``limit``;

@@ -18,25 +18,44 @@ from ..wire.messages import AxisSample
 
 
 class AxisState:
-    """Use as a context manager; :meth:`latest` is the newest sample received, or None."""
+    """Use as a context manager; :meth:`latest` is the newest sample received, or None.
 
-    def __init__(self, session: zenoh.Session, keys: AxisKeys, signal: str = "state") -> None:
+    With ``follow=False`` the subscriber is declared only while :meth:`wait` waits (and by
+    :meth:`latest`, until the next :meth:`wait` returns): a program that needs where the axis is only
+    now and then (a planner at the start of each run) does not receive every sample of a bridge that
+    runs many times faster than real time."""
+
+    def __init__(
+        self, session: zenoh.Session, keys: AxisKeys, signal: str = "state", follow: bool = True
+    ) -> None:
         if signal not in ("state", "setpoint"):
             raise AcquisitionError(f"axis signal {signal!r} is not one of state, setpoint")
         self.keys = keys
         self.key = keys.state if signal == "state" else keys.setpoint
-        self._sub = session.declare_subscriber(self.key, zenoh.handlers.RingChannel(1))
+        self._session = session
+        self._follow = follow
+        self._sub: zenoh.Subscriber | None = None
+        if follow:
+            self._listen()
         self._latest: AxisSample | None = None
 
+    def _listen(self) -> zenoh.Subscriber:
+        if self._sub is None:
+            self._sub = self._session.declare_subscriber(self.key, zenoh.handlers.RingChannel(1))
+        return self._sub
+
     def latest(self) -> AxisSample | None:
-        sample = self._sub.try_recv()
+        sample = self._listen().try_recv()
         if sample is not None:
             self._latest = AxisSample.decode(sample.payload.to_bytes())
         return self._latest
 
     def wait(self, timeout_s: float) -> AxisSample:
-        """The newest sample, waiting up to ``timeout_s`` for the first; raises if none arrives."""
+        """The newest sample, waiting up to ``timeout_s`` for the first; raises if none arrives. Without
+        ``follow``: a sample that arrives during this call (not one kept from an earlier call)."""
         deadline = time.monotonic() + timeout_s
+        if not self._follow:
+            self._latest = None
         while (sample := self.latest()) is None:
             if time.monotonic() >= deadline:
                 raise AcquisitionError(
@@ -44,10 +63,17 @@ class AxisState:
                     "is its bridge running and reachable?"
                 )
             time.sleep(0.005)
+        if not self._follow:
+            self._unlisten()
         return sample
 
+    def _unlisten(self) -> None:
+        if self._sub is not None:
+            self._sub.undeclare()
+            self._sub = None
+
     def close(self) -> None:
-        self._sub.undeclare()
+        self._unlisten()
 
     def __enter__(self) -> AxisState:
         return self

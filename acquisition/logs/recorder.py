@@ -40,83 +40,27 @@ from pathlib import Path
 
 import zenoh
 
-from ...model.files import OutputError, check_output_file
 from ..bus.publisher import mcap_encoding_of
 from ..bus.readiness import HELLO_TIMEOUT_S, JoinedSubscriber, JoinReport
 from ..bus.session import check_key_expression
 from ..errors import RecordingError
 from ..histogram import DurationHistogram, DurationStats
 from ..wire.attachment import unpack_attachment
-from ..wire.keys import all_keys, recorder_token, topic_for_key
+from ..wire.keys import recorder_token, topic_for_key
 from ..wire.sequence import SequenceTracker
-from .mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE, Ros2McapWriter
+from .recorder_config import (
+    LIVE_STAMP_WINDOW_NS,
+    RecorderConfig,
+    check_outputs,
+    split_path,
+)
+from .recording_writer import LOSS_METADATA, RecordingWriter
 
 log = logging.getLogger(__name__)
 
-DEFAULT_QUEUE_CAPACITY = 1 << 16
-"""samples the receive channel holds before it applies back-pressure"""
 _IDLE_SLEEP_S = 0.0005
 _DRAIN_BATCH = 256
 """samples written before the loop looks at the clock again"""
-LIVE_STAMP_WINDOW_NS = 1_000_000_000
-"""a stamp further than this from the wall clock is not live (e.g. a replay): no latency from it"""
-
-
-@dataclass(frozen=True)
-class RecorderConfig:
-    output: Path
-    keys: str = field(default_factory=all_keys)
-    duration_s: float | None = None
-    compression: str = "zstd"
-    flush_interval_s: float = 1.0
-    split_bytes: int | None = None
-    split_duration_s: float | None = None
-    chunk_size: int = DEFAULT_CHUNK_SIZE
-    queue_capacity: int = DEFAULT_QUEUE_CAPACITY
-    join_timeout_s: float = HELLO_TIMEOUT_S
-    """how long the publishers on ``keys`` may take to answer the join's hellos [s]"""
-    overwrite: bool = False
-    """replace existing recordings (``output`` or its split files) instead of refusing to start"""
-
-    def __post_init__(self) -> None:
-        if self.compression not in COMPRESSIONS:
-            raise RecordingError(f"compression {self.compression!r} is not one of {', '.join(COMPRESSIONS)}")
-        for name, value, unit in (
-            ("duration", self.duration_s, "s"),
-            ("flush interval", self.flush_interval_s, "s"),
-            ("split size", self.split_bytes, "bytes"),
-            ("split duration", self.split_duration_s, "s"),
-            ("join timeout", self.join_timeout_s, "s"),
-        ):
-            if value is not None and not value > 0:
-                raise RecordingError(f"recorder {name} = {value} {unit} must be > 0 {unit}")
-        if Path(self.output).suffix != ".mcap":
-            raise RecordingError(f"output {self.output} must end in .mcap")
-        # before any file is opened: a bad expression must not leave an empty recording behind
-        check_key_expression(self.keys)
-
-
-def check_outputs(config: RecorderConfig) -> None:
-    """Refuse to start when the output cannot be written (its folder missing or unwritable, its name
-    too long, a directory) or (without ``overwrite``) the output, or one of its split files, exists
-    already."""
-    out = Path(config.output)
-    split = config.split_bytes is not None or config.split_duration_s is not None
-    try:
-        check_output_file(split_path(out, 0) if split else out, overwrite=True)
-    except OutputError as exc:
-        raise RecordingError(str(exc)) from None
-    if config.overwrite:
-        return
-    existing = sorted(out.parent.glob(f"{out.stem}_[0-9][0-9][0-9][0-9]{out.suffix}")) if split else []
-    if not split and out.exists():
-        existing = [out]
-    if existing:
-        raise RecordingError(
-            f"output {existing[0]} already exists"
-            + (f" (and {len(existing) - 1} more split files)" if len(existing) > 1 else "")
-            + ": choose another name or pass --overwrite"
-        )
 
 
 @dataclass
@@ -125,6 +69,8 @@ class TopicStats:
     messages: int = 0
     first_log_ns: int = 0
     last_log_ns: int = 0
+    dropped: int = 0
+    """messages received and not written: the writer's backlog was full (see RecorderConfig)"""
     sequences: SequenceTracker = field(default_factory=SequenceTracker)
     """per publisher id: its sequence numbers' span, gaps and duplicates (a sender that restarts is a
     new publisher: its sequence starts again at 1)"""
@@ -166,6 +112,10 @@ class RecordSummary:
     def missed(self) -> int:
         return sum(t.missed for t in self.topics.values())
 
+    @property
+    def dropped(self) -> int:
+        return sum(t.dropped for t in self.topics.values())
+
     def format(self) -> str:
         lines = [
             f"recorded {self.messages} messages on {len(self.topics)} topics in {self.wall_time_s:.3f} s "
@@ -175,6 +125,12 @@ class RecordSummary:
         for t in sorted(self.topics.values(), key=lambda t: t.topic):
             rate = "–" if t.rate_hz is None else f"{t.rate_hz:.1f}"
             lines.append(f"  {t.topic:<40} {t.messages:>9} {t.duration_s:>10.3f} {rate:>9} {t.missed:>7}")
+        ordered = sorted(self.topics.values(), key=lambda t: t.topic)
+        if self.dropped:
+            lines.append(
+                f"  dropped {self.dropped} messages, the writer's backlog being full: "
+                + ", ".join(f"{t.topic} {t.dropped}" for t in ordered if t.dropped)
+            )
         for t in sorted(self.topics.values(), key=lambda t: t.topic):
             publishers = t.sequences.publishers.values()
             if len(publishers) > 1:
@@ -208,6 +164,7 @@ class RecordSummary:
             "files": [str(f) for f in self.files],
             "messages": self.messages,
             "missed": self.missed,
+            "dropped": self.dropped,
             "wall_time_s": self.wall_time_s,
             "latency": self.latency.to_dict() if self.latency and not self.stale_stamps else None,
             "stale_stamps": self.stale_stamps,
@@ -215,6 +172,7 @@ class RecordSummary:
                 t.topic: {
                     "messages": t.messages,
                     "missed": t.missed,
+                    "dropped": t.dropped,
                     "duration_s": t.duration_s,
                     "rate_hz": t.rate_hz,
                     "duplicates": t.sequences.duplicates,
@@ -234,36 +192,44 @@ class RecordSummary:
         }
 
 
-def split_path(output: Path, index: int) -> Path:
-    return output.with_name(f"{output.stem}_{index:04d}{output.suffix}")
-
-
 class Recorder:
     """Records ``config.keys`` from a session until stopped (see the module docstring)."""
 
     def __init__(self, config: RecorderConfig) -> None:
-        """Checks the outputs (:func:`check_outputs`) before anything is opened."""
+        """Checks the key expression and the outputs (:func:`check_outputs`) before anything is opened: a
+        bad expression must not leave an empty recording behind."""
+        check_key_expression(config.keys)
         check_outputs(config)
         self.config = config
         self.summary = RecordSummary(keys=config.keys)
         self._split = config.split_bytes is not None or config.split_duration_s is not None
         self._file_index = 0
-        self._writer: Ros2McapWriter | None = None
+        self._writer: RecordingWriter | None = None
         self._file_started = 0.0
         self._latency = DurationHistogram()
+        self._routes: dict[str, tuple[int, TopicStats]] = {}
+        """per key of the open file: its channel id and its counts"""
+        self._reported_drops = 0
         self.ready = threading.Event()
         """set once the subscriber has joined: nothing published from then on is missed"""
 
-    def _open_next(self) -> Ros2McapWriter:
+    def _open_next(self) -> RecordingWriter:
         path = split_path(self.config.output, self._file_index) if self._split else self.config.output
         self._file_index += 1
         try:
-            writer = Ros2McapWriter(path, self.config.compression, self.config.chunk_size)
+            c = self.config
+            writer = RecordingWriter(path, c.compression, c.chunk_size, c.backlog_bytes)
         except OSError as exc:  # e.g. no room for the chunk-index spill file
             raise RecordingError(f"cannot start {path}: {exc.strerror or exc}") from None
         self.summary.files.append(path)
         self._file_started = time.monotonic()
+        self._routes.clear()  # channel ids are the new file's
         return writer
+
+    def _finish_file(self) -> None:
+        """Finish the open file, with the loss of this recording so far in its metadata."""
+        assert self._writer is not None
+        self._writer.finish({t.topic: t.missed for t in self.summary.topics.values() if t.missed})
 
     def _maybe_split(self) -> None:
         c = self.config
@@ -273,36 +239,65 @@ class Recorder:
             c.split_duration_s is not None and time.monotonic() - self._file_started >= c.split_duration_s
         )
         if too_big or too_long:
-            self._writer.finish()
+            self._finish_file()
             self._writer = self._open_next()
 
-    def _write(self, sample: zenoh.Sample) -> None:
-        writer = self._writer
-        assert writer is not None
-        now = time.time_ns()
+    def _report_drops(self) -> None:
+        """Say (at most once a flush interval) that messages were dropped since the last time."""
+        dropped = self.summary.dropped
+        if dropped > self._reported_drops:
+            by_topic = ", ".join(f"{t.topic} {t.dropped}" for t in self.summary.topics.values() if t.dropped)
+            log.warning(
+                "the writer's backlog is full (%d MB): %d messages dropped since the last report, %d in all "
+                "(%s); they are counted in the recording's metadata %s",
+                self.config.backlog_bytes // 2**20, dropped - self._reported_drops, dropped, by_topic,
+                LOSS_METADATA,
+            )  # fmt: skip
+            self._reported_drops = dropped
+
+    def _route(self, sample: zenoh.Sample, now: int) -> tuple[int, TopicStats]:
+        """The channel and the counts of a key seen for the first time in this file."""
+        assert self._writer is not None
         key = str(sample.key_expr)
         topic = topic_for_key(key)
-        channel_id = writer.channels.get(topic)
-        if channel_id is None:
-            message_encoding, type_name = mcap_encoding_of(sample.encoding)
-            channel_id = writer.channel_for(topic, type_name, message_encoding)
+        message_encoding, type_name = mcap_encoding_of(sample.encoding)
+        channel_id = self._writer.channel_for(topic, type_name, message_encoding)
         stats = self.summary.topics.get(topic)
         if stats is None:
             stats = self.summary.topics[topic] = TopicStats(topic, first_log_ns=now)
-        att = sample.attachment
-        parsed = unpack_attachment(att.to_bytes()) if att is not None else None
-        if parsed is not None:
-            seq, stamp, gid = parsed
-            stats.sequences.add(gid, seq)
-            if abs(now - stamp) <= LIVE_STAMP_WINDOW_NS:
-                self._latency.add_ns(now - stamp)
+        self._routes[key] = (channel_id, stats)
+        return channel_id, stats
+
+    def _drain(self, sub: zenoh.Subscriber, limit: int) -> int:
+        """Write up to ``limit`` samples waiting in the channel; returns how many were taken. Per sample:
+        the payload bytes exactly as received (no decode, no re-encode), ``log_time`` = now, the
+        attachment's stamp and sequence number; a sample the writer's backlog has no room for is
+        dropped and counted."""
+        writer, routes, latency, recv = self._writer, self._routes, self._latency, sub.try_recv
+        assert writer is not None
+        n = 0
+        while n < limit and (sample := recv()) is not None:
+            n += 1
+            now = time.time_ns()
+            route = routes.get(str(sample.key_expr))
+            channel_id, stats = route if route is not None else self._route(sample, now)
+            att = sample.attachment
+            parsed = unpack_attachment(att.to_bytes()) if att is not None else None
+            if parsed is not None:
+                seq, stamp, gid = parsed
+                stats.sequences.add(gid, seq)
+                if -LIVE_STAMP_WINDOW_NS <= now - stamp <= LIVE_STAMP_WINDOW_NS:
+                    latency.add_ns(now - stamp)
+                else:
+                    self.summary.stale_stamps += 1
             else:
-                self.summary.stale_stamps += 1
-        else:
-            seq, stamp = 0, now
-        writer.add(channel_id, now, stamp, seq, sample.payload.to_bytes())
-        stats.messages += 1
-        stats.last_log_ns = now
+                seq, stamp = 0, now
+            if writer.add(channel_id, now, stamp, seq, sample.payload.to_bytes()):
+                stats.messages += 1
+                stats.last_log_ns = now
+            else:
+                stats.dropped += 1
+        return n
 
     def run(
         self,
@@ -319,7 +314,9 @@ class Recorder:
         handler = lambda: zenoh.handlers.FifoChannel(c.queue_capacity)  # noqa: E731
         # joined before the file is created: a recorder that cannot join leaves no file behind
         token = recorder_token(socket.gethostname(), os.getpid())
-        with JoinedSubscriber(session, c.keys, handler, c.join_timeout_s, stop, token) as joined:
+        with JoinedSubscriber(
+            session, c.keys, handler, c.join_timeout_s or HELLO_TIMEOUT_S, stop, token
+        ) as joined:
             if joined.subscriber is None:  # stopped before it was ready: nothing to write
                 self.summary.wall_time_s = time.monotonic() - t0
                 return self.summary
@@ -334,7 +331,7 @@ class Recorder:
                 failure = exc
             finally:
                 try:
-                    self._writer.finish()
+                    self._finish_file()
                 except OSError as exc:
                     failure = failure or exc
                 self.summary.wall_time_s = time.monotonic() - t0
@@ -361,6 +358,7 @@ class Recorder:
             if now >= next_flush:
                 self._writer.flush()
                 next_flush = now + c.flush_interval_s
+                self._report_drops()
                 if self._split:
                     self._maybe_split()
             if stop.is_set() or (deadline is not None and now >= deadline):
@@ -371,11 +369,3 @@ class Recorder:
                 return
             if not written:
                 time.sleep(_IDLE_SLEEP_S)
-
-    def _drain(self, sub: zenoh.Subscriber, limit: int) -> int:
-        """Write up to ``limit`` samples waiting in the channel; returns how many."""
-        n = 0
-        while n < limit and (sample := sub.try_recv()) is not None:
-            self._write(sample)
-            n += 1
-        return n

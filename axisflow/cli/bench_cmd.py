@@ -21,6 +21,9 @@ BENCHMARKS: dict[str, str] = {
     "drives": "drives",
     "joins": "joins",
     "adapt": "adapt",
+    "moves": "moves",
+    "startup": "startup",
+    "all": "all",
 }
 
 
@@ -41,4 +44,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         )
         bp.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
         mod.add_arguments(bp)
-        bp.set_defaults(func=mod.run)
+        bp.set_defaults(func=mod.run, cli_verbs=_verbs)
+
+
+def _verbs() -> list[str]:
+    """The verbs of ``axisflow``, as its parser lists them (for ``bench startup``)."""
+    from . import build_parser
+
+    sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    return list(sub.choices)

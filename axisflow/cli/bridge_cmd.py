@@ -9,14 +9,10 @@ import os
 import sys
 import threading
 from contextlib import ExitStack
+from typing import TYPE_CHECKING
 
-from ..acquisition.bridge.bridge import Bridge, BridgeConfig, BridgeReport, run_bridges
 from ..acquisition.bridge.move_queue import DEFAULT_JUMP_TOLERANCE_M
-from ..acquisition.bus.session import DEFAULT_ENDPOINT, ZenohOptions, open_session
-from ..acquisition.drives.canopen.config import DriveConfig, Pacing, load_drive_config
-from ..acquisition.drives.canopen.cycle import CycleReport
-from ..acquisition.drives.canopen.master import open_master
-from ..acquisition.drives.canopen.sim_drive import SimulatedDrive
+from ..acquisition.bus.options import DEFAULT_ENDPOINT, ZenohOptions
 from ..acquisition.drives.plant import (
     DEFAULT_PROFILE,
     PROFILE_RESOURCES,
@@ -24,13 +20,17 @@ from ..acquisition.drives.plant import (
     load_plant,
     load_profile,
 )
-from ..acquisition.drives.sim_axis import SimulatedAxis
 from ..acquisition.wire.drive_info import SIMULATED, DriveInfo
 from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
 from ..arguments import add_params_option, finite_float, params_from_args
 from ..model import EXECUTION_PERIOD_NS, AxisflowError, AxisParams
 from ..processes import notify_ready, stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
+
+if TYPE_CHECKING:
+    from ..acquisition.bridge.bridge import BridgeConfig, BridgeReport
+    from ..acquisition.drives.canopen.config import DriveConfig
+    from ..acquisition.drives.canopen.cycle import CycleReport
 
 DRIVES = ("sim", "canopen", "canopen-sim")
 
@@ -149,6 +149,8 @@ def _plant(args: argparse.Namespace, params: AxisParams) -> PlantConfig:
 
 
 def _bridge_config(args: argparse.Namespace, axis: str, drive: DriveInfo) -> BridgeConfig:
+    from ..acquisition.bridge.bridge import BridgeConfig
+
     return BridgeConfig(
         keys=AxisKeys(axis, args.prefix),
         speed=args.speed,
@@ -160,6 +162,9 @@ def _bridge_config(args: argparse.Namespace, axis: str, drive: DriveInfo) -> Bri
 
 
 def run(args: argparse.Namespace) -> int:
+    # Zenoh, python-can and canopen load here, once a bridge is to run (not for --help)
+    from ..acquisition.drives.canopen.config import Pacing, load_drive_config
+
     params = params_from_args(args)
     kind = _drive_kind(args)
     options = zenoh_options_from_args(args)
@@ -179,6 +184,10 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _run_simulated_axis(args: argparse.Namespace, params: AxisParams, options: ZenohOptions) -> int:
+    from ..acquisition.bridge.bridge import Bridge
+    from ..acquisition.bus.session import open_session
+    from ..acquisition.drives.sim_axis import SimulatedAxis
+
     plant = _plant(args, params)
     config = _bridge_config(args, args.axis, DriveInfo(0, args.axis, SIMULATED, plant.profile, plant.source))
     # its clock starts at the first sample
@@ -212,6 +221,11 @@ def _run_canopen(
     """Start the drives (with a ``plant``: simulated ones hosted here first, for canopen-sim), then one
     bridge per drive in one loop with one SYNC per tick; on the way out the bridges close, then the
     drives are stopped."""
+    from ..acquisition.bridge.bridge import Bridge, run_bridges
+    from ..acquisition.bus.session import open_session
+    from ..acquisition.drives.canopen.master import open_master
+    from ..acquisition.drives.canopen.sim_drive import SimulatedDrive
+
     with ExitStack() as stack:
         if plant is not None:
             for settings in drives.drives:

@@ -137,6 +137,8 @@ def run(args: argparse.Namespace) -> int:
         idle = sum(r.measured.idle_ticks_total for t in (nominal, refit) for r in t.rows if r.measured)
         print(f"idle ticks between consecutive moves, all rows: {idle}")
     print(f"\nplant: {report.plant}")
+    phases = ", ".join(f"{name} {seconds:.1f} s" for name, seconds in report.phases_s.items())
+    print(f"phases: {phases} (demo.json has them)")
     print(f"demo finished in {report.wall_time_s:.0f} s; everything is in {report.out}/")
     return 0
 

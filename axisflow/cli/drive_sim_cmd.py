@@ -4,13 +4,15 @@ from __future__ import annotations
 
 import argparse
 import sys
+from typing import TYPE_CHECKING
 
-from ..acquisition.drives.canopen.config import load_drive_config
-from ..acquisition.drives.canopen.sim_drive import DEFAULT_FAULT_CODE, FaultPlan, SimulatedDrive
-from ..acquisition.drives.sim_axis import load_plant
+from ..acquisition.drives.canopen.faults import DEFAULT_FAULT_CODE
 from ..arguments import add_params_option, finite_float, params_from_args
 from ..model import AxisflowError
 from ..processes import stop_on_signals
+
+if TYPE_CHECKING:
+    from ..acquisition.drives.canopen.sim_drive import FaultPlan
 
 IN_PROCESS_INTERFACES = ("virtual",)
 
@@ -62,6 +64,8 @@ def _seconds(option: str, text: str) -> float:
 
 def fault_plan(fault_at: str | None, silent_at: str | None) -> FaultPlan:
     """The faults of ``--fault-at S[:CODE]`` and ``--silent-at S[:D]``."""
+    from ..acquisition.drives.canopen.sim_drive import FaultPlan
+
     plan: dict = {}
     if fault_at is not None:
         at, _, code = fault_at.partition(":")
@@ -87,6 +91,10 @@ def fault_plan(fault_at: str | None, silent_at: str | None) -> FaultPlan:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..acquisition.drives.canopen.config import load_drive_config
+    from ..acquisition.drives.canopen.sim_drive import SimulatedDrive
+    from ..acquisition.drives.sim_axis import load_plant
+
     params = params_from_args(args)
     config = load_drive_config(args.drive_config)
     if config.can.interface in IN_PROCESS_INTERFACES:

@@ -6,10 +6,8 @@ import argparse
 import json
 import sys
 
-from ..acquisition.bus.session import open_session
 from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
 from ..arguments import add_params_option, finite_float, params_from_args
-from ..excite import run_excitation
 from ..identification.excitation import DEFAULT_DURATION_S, DEFAULT_TORQUE_MARGIN, design_excitation
 from ..processes import stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
@@ -57,6 +55,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..acquisition.bus.session import open_session
+    from ..excite import run_excitation
+
     params = params_from_args(args)
     plan = design_excitation(params, args.duration, args.center, args.torque_margin)
     keys = AxisKeys(args.axis, args.prefix)

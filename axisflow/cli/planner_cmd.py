@@ -6,8 +6,8 @@ import argparse
 import json
 import sys
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
-from ..acquisition.bus.session import open_session
 from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
 from ..arguments import (
     add_params_option,
@@ -22,10 +22,12 @@ from ..arguments import (
 from ..experiment import LAWS
 from ..model import AxisflowError
 from ..planner import DEFAULT_OMEGA, Case
-from ..planner_node import NodeRun, NodeSettings, PlannerNode, RunReport
 from ..processes import stop_on_signals
 from ..waypoints import load_waypoints, random_waypoints
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
+
+if TYPE_CHECKING:
+    from ..planner_node import RunReport
 
 
 def _names(choices: tuple[str, ...], what: str) -> Callable[[str], tuple[str, ...]]:
@@ -107,6 +109,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..acquisition.bus.session import open_session
+    from ..planner_node import NodeRun, NodeSettings, PlannerNode
+
     params = params_from_args(args)
     points = (
         load_waypoints(args.waypoints, params)

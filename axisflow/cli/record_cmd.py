@@ -6,11 +6,12 @@ import argparse
 import json
 from pathlib import Path
 
-from ..acquisition.bus.session import open_session
 from ..acquisition.logs.mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE
-from ..acquisition.logs.recorder import DEFAULT_QUEUE_CAPACITY, Recorder, RecorderConfig
+from ..acquisition.logs.recorder_config import DEFAULT_QUEUE_CAPACITY, RecorderConfig
+from ..acquisition.logs.recording_writer import DEFAULT_BACKLOG_BYTES
 from ..acquisition.wire.keys import all_keys
 from ..arguments import finite_float, positive_int
+from ..model import AxisflowError
 from ..processes import notify_ready, stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
@@ -67,6 +68,14 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="N",
         help=f"receive queue capacity (messages, default {DEFAULT_QUEUE_CAPACITY})",
     )
+    p.add_argument(
+        "--backlog-mb",
+        type=finite_float,
+        default=DEFAULT_BACKLOG_BYTES / 2**20,
+        metavar="MB",
+        help="memory for messages received and not yet written [MiB]: past it, messages are dropped, "
+        f"counted per topic, reported and recorded in the file (default {DEFAULT_BACKLOG_BYTES // 2**20})",
+    )
     p.add_argument("--json", action="store_true", help="print the summary as one JSON object")
     p.add_argument(
         "--overwrite",
@@ -78,6 +87,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..acquisition.bus.session import open_session
+    from ..acquisition.logs.recorder import Recorder
+
     config = RecorderConfig(
         output=Path(args.output),
         keys=args.keys,
@@ -87,6 +99,7 @@ def run(args: argparse.Namespace) -> int:
         split_bytes=args.split_size,
         split_duration_s=args.split_duration,
         queue_capacity=args.queue,
+        backlog_bytes=_backlog_bytes(args.backlog_mb),
         chunk_size=args.chunk_size,
         overwrite=args.overwrite,
     )
@@ -95,3 +108,9 @@ def run(args: argparse.Namespace) -> int:
         summary = recorder.run(session, stop, on_ready=notify_ready)
     print(json.dumps(summary.to_dict(), indent=2) if args.json else summary.format(), flush=True)
     return 0
+
+
+def _backlog_bytes(mb: float) -> int:
+    if not 1.0 <= mb <= 1 << 20:
+        raise AxisflowError(f"--backlog-mb {mb:g} must be in 1…{1 << 20} MiB")
+    return int(mb * 2**20)

@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import argparse
 import sys
+from typing import TYPE_CHECKING
 
-from ..acquisition.bus.session import open_session
-from ..acquisition.logs.replay import ReplayProgress, replay
 from ..arguments import finite_float
 from ..processes import stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
+
+if TYPE_CHECKING:
+    from ..acquisition.logs.replay import ReplayProgress
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -55,6 +57,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..acquisition.bus.session import open_session
+    from ..acquisition.logs.replay import replay
+
     with stop_on_signals() as stop, open_session(zenoh_options_from_args(args)) as session:
         report = replay(
             session, args.file, args.speed, stop, args.wait_subscribers, args.keys, _show_progress

@@ -8,12 +8,15 @@ from __future__ import annotations
 
 import argparse
 import time
+from typing import TYPE_CHECKING
 
-from ..acquisition.bus.session import ZenohOptions, build_config, open_session
 from ..acquisition.errors import ZenohConfigError
 from ..arguments import finite_float
 from ..processes import stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
+
+if TYPE_CHECKING:
+    from ..acquisition.bus.session import ZenohOptions
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -30,6 +33,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def _router_options(args: argparse.Namespace) -> ZenohOptions:
+    from ..acquisition.bus.session import ZenohOptions, build_config
+
     options = zenoh_options_from_args(args)
     if options.mode not in (None, "router"):
         raise ZenohConfigError(f"axisflow router runs in mode router, not --mode {options.mode}")
@@ -54,6 +59,8 @@ def _router_options(args: argparse.Namespace) -> ZenohOptions:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..acquisition.bus.session import build_config, open_session
+
     if args.duration is not None and not args.duration > 0:
         raise ZenohConfigError(f"router duration = {args.duration} s must be > 0 s")
     options = _router_options(args)

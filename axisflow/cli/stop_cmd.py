@@ -5,15 +5,17 @@ from __future__ import annotations
 import argparse
 import json
 import time
+from typing import TYPE_CHECKING
 
 from ..acquisition import MoveState, MoveStatus
-from ..acquisition.bus.move_sender import MoveSender
-from ..acquisition.bus.session import open_session
 from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
 from ..acquisition.wire.quick_stop import STOP_MOVE_ID
 from ..arguments import finite_float
 from ..model import AxisflowError
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
+
+if TYPE_CHECKING:
+    from ..acquisition.bus.move_sender import MoveSender
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -49,6 +51,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..acquisition.bus.move_sender import MoveSender
+    from ..acquisition.bus.session import open_session
+
     if not args.timeout > 0:
         raise AxisflowError(f"--timeout {args.timeout:g} s must be > 0 s")
     keys = AxisKeys(args.axis, args.prefix)

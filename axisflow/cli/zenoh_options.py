@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..acquisition.bus.session import DEFAULT_ENDPOINT, MODES, ZenohOptions
+from ..acquisition.bus.options import DEFAULT_ENDPOINT, MODES, ZenohOptions
 
 
 def add_zenoh_options(parser: argparse.ArgumentParser) -> None:

@@ -6,7 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..acquisition.bus.session import check_host
+from ..acquisition.bus.options import check_host
 from ..acquisition.wire.keys import DEFAULT_PREFIX, all_keys
 from ..arguments import MAX_TCP_PORT
 from .certificates import DEFAULT_DAYS, check_days

@@ -34,8 +34,6 @@ from collections.abc import Callable
 from functools import lru_cache
 
 import numpy as np
-from scipy.integrate import quad
-from scipy.optimize import brentq
 
 from ...model import AxisParams, EnergyAccounting, PolynomialLaw, forward_friction, friction_slope
 from ...model.deadline import iteration_cap
@@ -210,6 +208,9 @@ def optimal_speed_ratio(law: PolynomialLaw, params: AxisParams, omega: float) ->
         return math.inf
     if omega <= 0.0:
         return 0.0
+    from scipy.integrate import quad  # scipy loads on first use: a command that only parses loads none
+    from scipy.optimize import brentq
+
     lm = law_model(law, params)
     target = omega / (1.0 - omega)
 

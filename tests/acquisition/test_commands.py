@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 
 
+@pytest.mark.slow
 def test_record_and_bridge_exit_on_their_own(cli, tmp_path, port):
     """A recorder with --duration and a bridge with --duration each end by themselves (a command that
     hangs at exit fails the test); the bridge at speed 0 runs as fast as its consumer, the recorder."""
@@ -60,6 +61,7 @@ def _cpu_seconds(pid: int) -> float:
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
+@pytest.mark.slow
 def test_bridge_with_default_zenoh_config_exits_even_when_7447_is_taken(cli):
     """The embedded default listens on 7447 if free and on a port of its own: it must also work when
     something else (here: a plain socket, or whatever already holds it) has 7447, so the test does
@@ -98,6 +100,7 @@ def test_bridge_with_default_zenoh_config_exits_even_when_7447_is_taken(cli):
         ),
     ],
 )
+@pytest.mark.slow
 def test_user_errors_exit_2_with_a_message(cli, tmp_path, args, match):
     result = cli.run(*args, timeout=30)
     assert result.returncode == 2, (result.stdout, result.stderr)
@@ -105,6 +108,7 @@ def test_user_errors_exit_2_with_a_message(cli, tmp_path, args, match):
     assert "Traceback" not in result.stderr
 
 
+@pytest.mark.slow
 def test_pipeline_benchmark_smoke(cli):
     import json
 
@@ -122,6 +126,7 @@ def test_pipeline_benchmark_smoke(cli):
 
 @pytest.mark.parametrize("command", ["recover", "replay"])
 @pytest.mark.parametrize("content", [b"abc", bytes(range(256)) * 16], ids=["3-bytes", "4-KiB-noise"])
+@pytest.mark.slow
 def test_a_file_that_is_not_mcap_is_refused_and_nothing_is_written(cli, tmp_path, command, content):
     source = tmp_path / "noise.mcap"
     source.write_bytes(content)
@@ -137,6 +142,7 @@ def test_a_file_that_is_not_mcap_is_refused_and_nothing_is_written(cli, tmp_path
     [("x.mcap", []), ("x_0000.mcap", ["--split-duration", "1"])],
     ids=["single", "split"],
 )
+@pytest.mark.slow
 def test_record_refuses_to_overwrite_unless_asked(cli, tmp_path, port, existing, split_args):
     old = tmp_path / existing
     old.write_bytes(b"precious")
@@ -175,6 +181,7 @@ def _tiny_recording(path):
         (["recover", "{src}", "-o", "{dir}/taken.mcap"], "taken.mcap already exists: choose another name"),
     ],
 )
+@pytest.mark.slow
 def test_replay_and_recover_refuse_bad_options(cli, tmp_path, args, match):
     src = tmp_path / "src.mcap"
     _tiny_recording(src)
@@ -209,6 +216,7 @@ def test_recover_of_a_file_with_no_complete_message_writes_nothing(cli, tmp_path
     assert not (tmp_path / "cut.recovered.mcap").exists()
 
 
+@pytest.mark.slow
 def test_a_bridge_waits_for_its_recorder_and_stamps_its_samples_when_it_starts(cli, tmp_path, port):
     """--wait-subscribers really waits (the recorder starts 2 s after the bridge and still gets the
     first sample), and the drive's clock starts with the loop (stamps close to the publish time)."""

@@ -15,6 +15,8 @@ import pytest
 from axisflow.acquisition import SCHEMAS
 from axisflow.model import default_params
 
+pytestmark = pytest.mark.slow  # a module fixture of several seconds: the whole module is in the slow tier
+
 N_SECONDS = 2
 STATE = "/axisflow/a0/state"
 SETPOINT = "/axisflow/a0/setpoint"

@@ -1276,6 +1276,7 @@ def _error_line(err: str, command: str) -> str:
 
 
 @pytest.mark.parametrize("bad", CASES, ids=[c.id for c in CASES])
+@pytest.mark.slow
 def test_a_bad_input_is_one_line_exit_2_and_nothing_written(bad, inputs, tmp_path, capfd, monkeypatch):
     work = tmp_path / "work"
     work.mkdir()
@@ -1431,6 +1432,7 @@ def test_the_three_slips_of_the_issue_fail_at_once_as_processes(inputs, tmp_path
     ],
     ids=["params", "plan", "help", "excite", "experiment"],
 )
+@pytest.mark.slow
 def test_a_reader_that_goes_away_is_not_an_error(args, tmp_path):
     """``axisflow … | head -1``: the reader closes the pipe; here before the first write, so the command
     always meets the broken pipe (with head it may not, for output smaller than the pipe's buffer)."""
@@ -1491,6 +1493,7 @@ def test_the_issue_s_tiny_move_returns_at_once_as_a_process(tmp_path):
 
 @pytest.mark.timeout(120)
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT], ids=["SIGTERM", "SIGINT"])
+@pytest.mark.slow
 def test_the_planner_with_tiny_way_points_ends_within_2_s_of_a_signal(cli, tmp_path, sig):
     """Way points within a count of each other (zero moves, not sent) among real moves, on a bridge at
     real time: mid-run (a plan record seen), the signal ends the planner within 2 s."""

@@ -118,6 +118,7 @@ def test_same_seed_same_waypoints(tmp_path):
     assert a["waypoints_m"] == b["waypoints_m"]
 
 
+@pytest.mark.slow
 def test_the_old_offline_flag_runs_the_same_experiment_with_a_note(tmp_path, capsys):
     assert main(["experiment", "--out", str(tmp_path / "a"), "--waypoints", "3", "--solver", "exact"]) == 0
     assert capsys.readouterr().err == ""

@@ -20,6 +20,8 @@ from pathlib import Path
 import pytest
 from axisflow.acquisition.logs.synthetic_log import SyntheticLogSpec, write_synthetic_log
 
+pytestmark = pytest.mark.slow  # a module fixture of several seconds: the whole module is in the slow tier
+
 CLI = [sys.executable, "-c", "import sys; from axisflow.cli import main; sys.exit(main())"]
 ENV = {**os.environ, "CI": "1", "RUST_LOG": "error"}
 SIGNALS = [signal.SIGTERM, signal.SIGINT]

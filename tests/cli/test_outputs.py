@@ -28,6 +28,7 @@ def test_the_planner_prints_each_runs_summary_once_on_stdout(cli, tmp_path, port
     cli.launcher.stop(bridge)
 
 
+@pytest.mark.slow
 def test_a_starting_bridge_says_what_it_runs_in_one_line(cli, port):
     done = cli.run(
         "bridge", "--sim", "--axis", "x7", "--duration", "0.1", "--listen", f"tcp/127.0.0.1:{port}"

@@ -3,6 +3,7 @@ the experiment with --solver exact, and the planner benchmark's JSON shape."""
 
 import json
 
+import pytest
 from axisflow.planner import Case
 
 from axisflow.cli import main
@@ -51,6 +52,7 @@ def test_plan_with_the_reference_laws(capsys):
     assert "the bang law is the minimum-time law" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_experiment_with_the_exact_solver_is_no_worse_than_ipopt(tmp_path, capsys):
     rows = {}
     for solver in ("exact", "ipopt"):

@@ -5,6 +5,8 @@ import pytest
 
 from axisflow.faults.session_faults import JOIN_LOSS_ALLOWANCE, session_faults
 
+pytestmark = pytest.mark.slow  # a module fixture of several seconds: the whole module is in the slow tier
+
 
 @pytest.fixture(scope="module")
 def faults(tmp_path_factory):

@@ -120,6 +120,7 @@ CASES = {  # how to spoil the log, the command's arguments, what the error says
 
 
 @pytest.mark.parametrize("case", CASES)
+@pytest.mark.slow
 def test_an_unusable_log_is_one_line_exit_2_and_nothing_written(case, tmp_path):
     edit, args, match = CASES[case]
     log = write_foreign_log(tmp_path / "log.mcap", 20.0, edit=edit)
@@ -146,6 +147,7 @@ def test_a_few_nan_samples_are_dropped_and_counted(tmp_path):
     assert report["parameters"]["a1"]["value"] == pytest.approx(PLANT.a1, rel=0.02)
 
 
+@pytest.mark.slow
 def test_a_gap_is_fitted_around_with_a_window(tmp_path):
     from .conftest import PLANT
 

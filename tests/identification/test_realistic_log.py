@@ -22,6 +22,8 @@ from axisflow.model import default_params
 
 from axisflow.offline_excitation import record_offline_excitation
 
+pytestmark = pytest.mark.slow  # a module fixture of several seconds: the whole module is in the slow tier
+
 NOMINAL = default_params()
 
 

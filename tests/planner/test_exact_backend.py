@@ -100,6 +100,7 @@ def test_min_time_is_the_smallest_duration_meeting_the_limits_in_continuous_time
 
 @pytest.mark.parametrize("accounting", list(EnergyAccounting))
 @pytest.mark.parametrize("law", LAWS)
+@pytest.mark.slow
 def test_min_time_energy_is_the_global_minimiser(law, accounting):
     p = default_params().replace(energy_accounting=accounting)
     poly = polynomial_law(law)
@@ -192,6 +193,7 @@ def test_exact_never_violates_a_limit_at_1khz(accounting):
             assert r.solver == "exact" and r.certificate is not None
 
 
+@pytest.mark.slow
 def test_agreement_with_a_converged_ipopt_on_a_few_hundred_moves():
     """The agreement study of the benchmark, on 216 moves: all laws, both cases, all accountings."""
     from axisflow.benchmarks.planner import REFERENCE_IPOPT, random_moves

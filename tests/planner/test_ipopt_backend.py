@@ -37,6 +37,7 @@ def test_min_time_matches_an_independent_search_for_the_smallest_feasible_durati
 
 
 @pytest.mark.parametrize("law", LAWS)
+@pytest.mark.slow
 def test_min_time_energy_matches_a_direct_minimisation(law):
     p = default_params().replace(energy_accounting="signed")
     backend = make_backend("ipopt", max_iter=200)

@@ -63,6 +63,7 @@ def _holds(result, problem, params) -> None:
 @pytest.mark.timeout(180)
 @settings(max_examples=400, derandomize=True, deadline=None, database=None)
 @given(moves())
+@pytest.mark.slow
 def test_exact_plans_every_move_inside_the_ranges_within_the_limits(case):
     params, problem = case
     try:
@@ -86,6 +87,7 @@ def test_exact_plans_every_move_inside_the_ranges_within_the_limits(case):
     st.sampled_from(LAWS),
     st.floats(0.5, 1.0),
 )
+@pytest.mark.slow
 def test_exact_time_energy_optima_on_sibling_axes(params, d_frac, x_frac, law, omega):
     """Case 2 on axes like the default, moves of 5–100 % of the stroke: interior optima, the braking
     search and its start tables (prepared as the online planner does) all within the limits."""

@@ -139,6 +139,7 @@ def test_bridge_connecting_to_a_closed_port_exits_2_with_one_line(cli):
         (["--mode", "peer", "--listen", "tcp/127.0.0.1:17995"], "runs in mode router, not --mode peer"),
     ],
 )
+@pytest.mark.slow
 def test_router_command_user_errors_exit_2(cli, args, match):
     result = cli.run("router", *args, timeout=30)
     assert result.returncode == 2

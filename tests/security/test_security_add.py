@@ -134,6 +134,7 @@ def test_the_ca_validity_bounds_the_new_certificates(tmp_path):
         add_roles(out, ("planner-3",), now=issued + dt.timedelta(days=11))
 
 
+@pytest.mark.slow
 def test_the_command_adds_and_refuses_with_one_line(cli, tmp_path):
     out = tmp_path / "sec"
     assert cli.run("security", "init", str(out), "--listen-port", "17991", "--days", "3").returncode == 0

@@ -192,6 +192,7 @@ def test_role_lists_are_parsed_and_checked():
         parse_roles(",")
 
 
+@pytest.mark.slow
 def test_the_command_writes_the_folder_and_refuses_to_overwrite_it(cli, tmp_path):
     out = tmp_path / "sec"
     first = cli.run(
@@ -214,6 +215,7 @@ def test_the_command_writes_the_folder_and_refuses_to_overwrite_it(cli, tmp_path
         (["--host", "999.1.1.1"], "router host '999.1.1.1' is neither an IP address"),
     ],
 )
+@pytest.mark.slow
 def test_bad_arguments_exit_2_with_one_line_and_write_nothing(cli, tmp_path, args, match):
     """(The checks themselves are tabled above on SecurityPlan; here the command's way of failing.)"""
     result = cli.run("security", "init", str(tmp_path / "sec"), *args)

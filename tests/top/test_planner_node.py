@@ -18,6 +18,7 @@ def _node(session, runs, params=None, solver="exact", lookahead_s=2.0):
 
 
 @pytest.mark.parametrize("solver", ["exact", "ipopt"])
+@pytest.mark.slow
 def test_runs_both_cases_back_to_back_with_plan_records(thread_bridge, port, solver):
     runs = (NodeRun(Case.MIN_TIME, "poly5"), NodeRun(Case.MIN_TIME_ENERGY, "poly3"))
     # at 5× real time, 2 s of drive time queued is 0.4 s of wall time for a plan (IPOPT's first solve

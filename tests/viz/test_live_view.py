@@ -25,6 +25,7 @@ from axisflow.viz.outputs import RerunOutput, ViewOutput
 from axisflow.processes import free_port, wait_until
 
 
+@pytest.mark.slow
 def test_a_live_view_of_a_bridge_holds_every_published_sample(cli, tmp_path, rrd_reader):
     port = cli.free_port()
     out = tmp_path / "live.rrd"

@@ -28,6 +28,8 @@ from enum import Enum
 from ..drive import DriveEvent, DriveEventKind
 from .cia402 import SW_FOLLOWING_ERROR, SW_WARNING, State, state_of
 
+DEFAULT_FAULT_CODE = 0x2310
+"""continuous over-current: what a simulated drive's ``--fault-at S`` raises without a code"""
 RESET_TIMEOUT_S = 2.0
 """wall time a fault reset may take before it counts as failed (drives re-energise in 0.1–1 s)"""
 

@@ -57,7 +57,7 @@ from .cia402 import (
     drive_transition,
 )
 from .config import CanSettings, DriveSettings
-from .faults import error_register_for
+from .faults import DEFAULT_FAULT_CODE, error_register_for
 from .network import CanopenNetwork
 from .objects import (
     COMM_CYCLE_PERIOD,
@@ -105,8 +105,6 @@ from .objects import (
 
 log = logging.getLogger(__name__)
 
-DEFAULT_FAULT_CODE = 0x2310
-"""continuous over-current: what ``--fault-at S`` raises without a code"""
 FOLLOWING_ERROR_CODE = 0x8611
 DEVICE_TYPE_SERVO = PROFILE_402 | 0x0002_0000
 """0x1000: profile 402, additional information 2 (servo drive)"""

@@ -2,6 +2,7 @@
 sender that disappears dropped while the running one ends at rest, moves of senders without a
 liveliness token refused (real sessions on tcp/127.0.0.1, in-process)."""
 
+import itertools
 import signal
 import threading
 import time
@@ -115,6 +116,7 @@ def _live_sender(port: int):
         yield sender
 
 
+@pytest.mark.slow
 def test_moves_queue_back_to_back_and_bad_ones_are_rejected(port):
     with _Bridge(port, duration_s=4.0) as bridge:
         with _live_sender(port) as sender:
@@ -155,6 +157,7 @@ def test_moves_queue_back_to_back_and_bad_ones_are_rejected(port):
     assert bridge.drive.position_m == pytest.approx(0.1, abs=5e-4)
 
 
+@pytest.mark.slow
 def test_a_sender_that_disappears_mid_move_leaves_the_axis_at_rest_and_its_queue_dropped(port):
     with _Bridge(port, duration_s=5.0) as bridge:
         with _live_sender(port) as sender:
@@ -174,6 +177,42 @@ def test_a_sender_that_disappears_mid_move_leaves_the_axis_at_rest_and_its_queue
     assert x[-1] == pytest.approx(0.6) and v[-1] == 0.0  # ... and the axis holds there, at rest
     assert np.abs(v).max() <= PARAMS.v_max
     assert bridge.drive.position_m == pytest.approx(0.6, abs=5e-4)
+
+
+@pytest.mark.slow
+def test_at_speed_0_the_next_move_of_a_live_sender_starts_where_the_last_one_ends(port):
+    # at speed 0 a 100 ms move runs in a few milliseconds of wall time: less than a sender may need to
+    # see it start and send the next one; the bridge waits for it at the tick where the queue runs dry
+    drive = SimulatedAxis(load_plant(None, PARAMS), PARAMS, T0, axis="a0")
+    stop = threading.Event()
+    reports = []
+    with (
+        open_session(ZenohOptions.loopback(listen_port=port)) as bridge_session,
+        open_session(ZenohOptions.loopback(connect_port=port)) as observer,
+    ):
+        # a consumer that never holds the bridge back (at speed 0 it runs as fast as consumers allow)
+        state = observer.declare_subscriber(KEYS.state, zenoh.handlers.RingChannel(1))
+        config = BridgeConfig(keys=KEYS, speed=0.0, wait_subscribers_s=10.0)
+        thread = threading.Thread(
+            target=lambda: reports.append(run_bridge(bridge_session, drive, PARAMS, config, stop))
+        )
+        thread.start()
+        try:
+            with _live_sender(port) as sender:
+                x = 0.0
+                for k in range(5):
+                    cmd = sender.send(x, 0.005 - x, 0.1)
+                    x = 0.005 - x
+                    assert sender.wait_status(cmd.move_id, {MoveState.STARTED}, 20.0) is not None, k
+                assert sender.wait_status(cmd.move_id, {MoveState.COMPLETED}, 20.0) is not None
+                accepted = [st for st in sender.statuses if st.state is MoveState.ACCEPTED]
+        finally:
+            stop.set()
+            thread.join(timeout=30)
+            state.undeclare()
+    assert len(accepted) == 5
+    assert [b.start_tick - a.end_tick for a, b in itertools.pairwise(accepted)] == [0, 0, 0, 0]
+    assert reports and reports[0].moves_completed == 5
 
 
 def test_moves_of_a_publisher_without_a_sender_token_are_refused(port):
@@ -250,6 +289,7 @@ def test_a_test_can_drive_the_bridge_tick_by_tick(port):
     assert bridge.report.ticks == bridge.tick and bridge.report.moves_completed == 1
 
 
+@pytest.mark.slow
 def test_a_sampled_move_and_a_polynomial_move_run_back_to_back(port):
     """A trajectory (knots 1 ms apart) sent with send_trajectory runs knot for knot; the poly5 move
     sent after it is appended with no idle tick."""

@@ -5,7 +5,11 @@ import math
 import numpy as np
 import pytest
 from axisflow.acquisition import MoveCommand, MoveQueue, MoveRejectedError
-from axisflow.model import AxisParams
+from axisflow.acquisition.bridge.move_queue import SETPOINT_BLOCK_TICKS
+from axisflow.acquisition.drives.drive import Setpoint
+from axisflow.acquisition.wire.messages import SAMPLED_LAW, Knots
+from axisflow.identification.excitation import design_excitation
+from axisflow.model import EXECUTION_PERIOD_S, AxisParams, cart_force, default_params
 
 # a fixed axis (the paper's geometry), so the tests do not depend on the packaged defaults
 PARAMS = AxisParams(
@@ -173,3 +177,33 @@ def test_sampled_moves_fill_the_queue_to_its_knot_budget_and_no_further(monkeypa
 def _knots_in(queue: MoveQueue) -> int:
     """The knots of the moves in the queue, counted from scratch."""
     return sum(len(q.command.knots) for q in queue._queue if q.command.knots is not None)
+
+
+def _one_tick_at_a_time(move, offset: int, params):
+    """The setpoint of a tick as the queue computed it before it sampled moves by blocks."""
+    s = move.sample(offset * EXECUTION_PERIOD_S)
+    v, a = float(s.velocity_m_s), float(s.acceleration_m_s2)
+    return Setpoint(float(s.position_m), v, a, float(cart_force(v, a, params)))
+
+
+@pytest.mark.parametrize("law", ["poly3", "poly5", "poly7", "sampled"])
+def test_block_sampled_setpoints_equal_one_tick_at_a_time_bit_for_bit(law):
+    params = default_params()
+    if law == "sampled":  # a burst of the identification excitation (knots 1 ms apart)
+        traj = design_excitation(params).trajectories()[1]
+        knots = Knots.of(traj)
+        cmd = MoveCommand(0, "a0", 1, 0, SAMPLED_LAW, traj.x0_m, traj.x1_m, traj.duration_s, knots)
+    else:
+        cmd = _move(0.1, 0.7, 2.5, law)
+    q = MoveQueue(params, cmd.start_position_m, 0, "a0")
+    queued = q.submit(cmd, 0)
+    assert queued.end_tick - queued.start_tick > 2 * SETPOINT_BLOCK_TICKS  # several blocks
+    for tick in range(queued.start_tick, queued.end_tick + 2):
+        step = q.advance(tick)
+        if tick < queued.end_tick:
+            expected = _one_tick_at_a_time(queued.move, tick - queued.start_tick, params)
+        else:
+            expected = Setpoint(queued.move.x1_m, 0.0, 0.0, 0.0)  # held at the end point
+        assert step.setpoint == expected, tick
+        sample = expected.to_sample(0, "a0", params)
+        assert step.motor == (sample.motor_angle_rad, sample.motor_speed_rad_s, sample.motor_torque_nm)

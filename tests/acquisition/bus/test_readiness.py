@@ -34,6 +34,7 @@ def _collect(sub, trackers: dict[str, SequenceTracker], samples: int, timeout_s:
 
 
 @pytest.mark.parametrize("speed", ["0", "1"])
+@pytest.mark.slow
 def test_a_subscriber_joining_a_running_bridge_misses_no_sample(cli, port, speed):
     """A fresh session joins a running bridge again and again (the case that lost samples): at speed 0
     the bridge runs flat out for a keeper subscriber; at speed 1 at 1 kHz. No join has a gap."""
@@ -62,6 +63,7 @@ def test_a_subscriber_joining_a_running_bridge_misses_no_sample(cli, port, speed
     assert bridge.poll() is None
 
 
+@pytest.mark.slow
 def test_messages_published_once_a_subscriber_matches_all_arrive(port):
     """The publisher waits for Zenoh's matching listener, then publishes at once (no settling time):
     every message, from the first, reaches a subscriber that was already there — over many new
@@ -85,6 +87,7 @@ def test_messages_published_once_a_subscriber_matches_all_arrive(port):
         sub.undeclare()
 
 
+@pytest.mark.slow
 def test_a_sender_is_ready_for_the_bridge_when_it_says_so(cli, port):
     """Right after wait_for_bridge, a new sender's first move is accepted and its statuses reach it —
     over many senders, each on a fresh session (the bridge's token and a hello are the facts)."""

@@ -370,6 +370,7 @@ def test_synthetic_motion_stays_in_the_stroke_and_the_limits(synthetic):
 
 
 @pytest.mark.parametrize("name", [*PLAIN_VARIANTS, "mcap_ros2", "rosbags-zstd", "rosbags-none"])
+@pytest.mark.slow
 def test_foreign_files_read_like_mcap_ros2_decodes_them(foreign, name):
     path = foreign[name]
     for topic in (ARM, GRIPPER, HEAD):
@@ -436,6 +437,7 @@ def test_a_channel_defined_chunks_before_its_first_message(tmp_path):
 # ---- crashes -------------------------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_a_file_cut_anywhere_is_read_up_to_its_last_complete_chunk(synthetic, tmp_path):
     spans = record_spans(synthetic)
     chunk_ends = [(i, end) for i, (op, _s, end) in enumerate(spans) if op == Opcode.CHUNK]

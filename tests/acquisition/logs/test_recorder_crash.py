@@ -34,6 +34,7 @@ def _state_sequences(path: Path) -> np.ndarray:
 
 
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+@pytest.mark.slow
 def test_sigint_sigterm_finish_the_file_and_lose_nothing(cli, tmp_path, sig):
     out = tmp_path / "run.mcap"
     rec, bridge = _start_pipeline(cli, out)
@@ -53,6 +54,7 @@ def test_sigint_sigterm_finish_the_file_and_lose_nothing(cli, tmp_path, sig):
     assert "missed 0" in rec_out
 
 
+@pytest.mark.slow
 def test_sigkill_loses_at_most_a_second_and_recover_rebuilds_the_file(cli, tmp_path):
     from rosbags.highlevel import AnyReader
 
@@ -84,6 +86,7 @@ def test_sigkill_loses_at_most_a_second_and_recover_rebuilds_the_file(cli, tmp_p
 @pytest.mark.parametrize(
     "split", [("--split-duration", "1"), ("--split-size", "60k")], ids=["by-duration", "by-size"]
 )
+@pytest.mark.slow
 def test_split_gives_complete_consecutive_files(cli, tmp_path, split):
     out = tmp_path / "run.mcap"
     rec, bridge = _start_pipeline(cli, out, *split)

@@ -75,6 +75,7 @@ def _rig(stack, canbus, port, faults):
     return Rig(bridge, master, sender, observer)
 
 
+@pytest.mark.slow
 def test_a_fault_stops_the_axis_refuses_moves_and_a_reset_brings_it_back(canbus, port):
     stack = canbus.stack
     rig = _rig(stack, canbus, port, FaultPlan(fault_at_s=1.2, fault_code=0x2310))
@@ -109,6 +110,7 @@ def test_a_fault_stops_the_axis_refuses_moves_and_a_reset_brings_it_back(canbus,
     rig.until(lambda: rig.status(fourth.move_id, MoveState.COMPLETED))
 
 
+@pytest.mark.slow
 def test_no_sample_is_published_while_the_drive_is_silent(canbus, port):
     rig = _rig(canbus.stack, canbus, port, FaultPlan(silent_at_s=0.5, silent_for_s=0.3))
     lost = rig.until(lambda: rig.event(MoveState.COMM_LOST))
@@ -126,6 +128,7 @@ def test_no_sample_is_published_while_the_drive_is_silent(canbus, port):
     rig.until(lambda: rig.event(MoveState.ENABLED, n))
 
 
+@pytest.mark.slow
 def test_a_quick_stop_is_braked_by_the_bridge_and_the_drive_stays_enabled(canbus, port):
     rig = _rig(canbus.stack, canbus, port, FaultPlan())
     move = rig.sender.send(0.0, 0.7, 1.2)

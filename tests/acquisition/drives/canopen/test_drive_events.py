@@ -2,6 +2,7 @@
 drives on a virtual bus in lock-step (the master reports; the bridge's reaction is
 test_bridge_canopen.py's)."""
 
+import pytest
 from axisflow.acquisition.drives.canopen.cia402 import State
 from axisflow.acquisition.drives.canopen.sim_drive import FaultPlan
 from axisflow.acquisition.drives.drive import DriveEventKind as K
@@ -43,6 +44,7 @@ def test_a_following_error_faults_the_drive_with_0x8611(canbus, runner, hold_at)
     assert run.events[0][-1].error_code == 0x8611 and "following error" in run.events[0][-1].text
 
 
+@pytest.mark.slow
 def test_a_silent_drive_is_comm_lost_quick_stopped_and_back_after_a_reset(canbus, runner, hold_at, until):
     config = canbus.config()
     sim = canbus.sim(config, faults=FaultPlan(silent_at_s=0.1, silent_for_s=0.4))

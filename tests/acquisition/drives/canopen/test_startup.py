@@ -84,6 +84,7 @@ def test_a_device_that_is_not_a_drive_is_refused(canbus):
                    lambda: canbus.master(config))  # fmt: skip
 
 
+@pytest.mark.slow
 def test_a_drive_in_fault_is_refused_with_its_code_and_how_to_reset_it(canbus):
     config = canbus.config()
     canbus.sim(config, faults=FaultPlan(fault_at_s=0.0, fault_code=0x4310))

@@ -1,0 +1,198 @@
+"""All: the speed benchmarks of issue 23 in one go, one table (Markdown and JSON) with the machine, the
+date, the load average around each benchmark, each figure, its baseline measured in the same run and
+their ratio.
+
+Each benchmark runs as ``axisflow bench NAME --json`` (or ``axisflow demo``) in a fresh process, one
+after the other: ``startup``, ``moves``, ``pipeline`` (the recorder), ``identify`` and the demo.
+``--short`` runs smaller versions (fewer way points, a quarter-hour log, shorter recorder steps, no
+demo); ``--out DIR`` writes ``performance.md`` and ``performance.json`` there.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import json
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+_CLI = "import sys; from axisflow.cli import main; sys.exit(main())"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--short", action="store_true", help="smaller runs, no demo (a few minutes)")
+    parser.add_argument("--no-demo", action="store_true", help="leave the demo out")
+    parser.add_argument("--out", metavar="DIR", default=None, help="write performance.md and .json here")
+
+
+def _machine() -> dict[str, Any]:
+    model = ""
+    with contextlib.suppress(OSError, StopIteration):
+        model = next(
+            line.split(":", 1)[1].strip()
+            for line in Path("/proc/cpuinfo").read_text().splitlines()
+            if line.startswith("model name")
+        )
+    return {
+        "host": platform.node(),
+        "cpus": os.cpu_count(),
+        "cpu": model,
+        "python": platform.python_version(),
+        "system": f"{platform.system()} {platform.release()}",
+    }
+
+
+def _bench(name: str, *args: str) -> dict[str, Any]:
+    """``axisflow bench NAME --json ARGS`` in a fresh process: its JSON, with the load around it."""
+    load0, t0 = os.getloadavg()[0], time.monotonic()
+    proc = subprocess.run(
+        [sys.executable, "-c", _CLI, "bench", name, "--json", *args],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    if proc.returncode not in (0, 1):
+        raise RuntimeError(f"axisflow bench {name} failed: {proc.stderr[-2000:]}")
+    out = json.loads(proc.stdout)
+    out["_load"] = (load0, os.getloadavg()[0])
+    out["_seconds"] = time.monotonic() - t0
+    return out
+
+
+def _demo(tmp: Path) -> dict[str, Any]:
+    load0, t0 = os.getloadavg()[0], time.monotonic()
+    out = tmp / "demo"
+    proc = subprocess.run(
+        [sys.executable, "-c", _CLI, "demo", "--out", str(out)], capture_output=True, text=True, check=False
+    )
+    wall = time.monotonic() - t0
+    if proc.returncode != 0:
+        raise RuntimeError(f"axisflow demo failed: {proc.stderr[-2000:]}")
+    summary = json.loads((out / "demo.json").read_text())
+    summary["_command_s"] = wall
+    summary["_load"] = (load0, os.getloadavg()[0])
+    return summary
+
+
+def run(args: argparse.Namespace) -> int:
+    short = args.short
+    say = (lambda _t: None) if args.json else (lambda t: print(f"  … {t}", file=sys.stderr, flush=True))
+    results: dict[str, Any] = {
+        "machine": _machine(),
+        "date": time.strftime("%Y-%m-%d %H:%M %Z"),
+        "short": short,
+    }
+    say("startup")
+    results["startup"] = _bench("startup", "--repeat", "3" if short else "5")
+    say("moves (bridge + recorder + planner at --speed 0)")
+    results["moves"] = _bench(
+        "moves", *(["--waypoints", "20", "--rest-seconds", "20", "--raw-ticks", "30000"] if short else [])
+    )
+    say("pipeline (the recorder)")
+    results["pipeline"] = _bench(
+        "pipeline", "--axes", "32", "--seconds", "2" if short else "5", "--memory-seconds",
+        "10" if short else "30", "--flood", "100000" if short else "300000",
+    )  # fmt: skip
+    say("identify")
+    results["identify"] = _bench(
+        "identify", "--hours", "0.25" if short else "1", *(["--no-baseline"] if short else [])
+    )
+    if not (short or args.no_demo):
+        say("demo")
+        with tempfile.TemporaryDirectory(prefix="axisflow-bench-all-") as tmp:
+            results["demo"] = _demo(Path(tmp))
+    results["rows"] = rows(results)
+    markdown = table(results)
+    if args.out:
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        (out / "performance.md").write_text(markdown + "\n")
+        (out / "performance.json").write_text(json.dumps(results, indent=1) + "\n")
+    if args.json:
+        print(json.dumps(results, indent=1))
+    else:
+        print(markdown)
+    return 0
+
+
+def _row(goal: str, figure: str, value: float, unit: str, baseline: str, base: float, **kw: Any) -> dict:
+    """One row: ``met`` (True/False, None: no goal) and ``load`` (start, end) as keywords."""
+    ratio = value / base if base else None
+    return {"goal": goal, "figure": figure, "value": value, "unit": unit, "baseline": baseline,
+            "baseline_value": base, "ratio": ratio, "met": kw.get("met"), "load": kw["load"]}  # fmt: skip
+
+
+def rows(r: dict[str, Any]) -> list[dict[str, Any]]:
+    out = []
+    m = r["moves"]
+    raw, rest, moves = m["raw_zenoh"], m["bridge_at_rest"], m["during_moves"]
+    raw_speed, raw_cpu = "raw zenoh put loop, × real time", "raw zenoh put loop, CPU per tick"
+    load = m["_load"]
+    out.append(_row("1", "pipeline during moves, × real time (≥ 40)", moves["speed"], "×", raw_speed,
+                    raw["speed"], met=moves["speed"] >= 40, load=load))  # fmt: skip
+    cpu = moves["cpu_us_per_tick"]
+    out.append(_row("1", "CPU per tick during moves, all processes (≤ 50)", cpu, "µs", raw_cpu,
+                    raw["cpu_us_per_tick"], met=cpu <= 50, load=load))  # fmt: skip
+    out.append(_row("1", "bridge at rest + recorder, × real time", rest["speed"], "×", raw_speed,
+                    raw["speed"], load=load))  # fmt: skip
+    if "demo" in r:
+        d = r["demo"]
+        wall = d["wall_time_s"]
+        out.append(
+            _row("2", "demo wall time (≤ 45)", wall, "s", "goal", 45.0, met=wall <= 45, load=d["_load"])
+        )
+    s = r["startup"]
+    out.append(_row("3", "slowest `--help` (≤ 0.3)", s["worst_s"], "s", "python -c 'import numpy'",
+                    s["numpy_only_s"], met=s["goal_met"], load=s["_load"]))  # fmt: skip
+    p = r["pipeline"]
+    f = p["recorder_flood"]
+    out.append(_row("4", "recorder flood, msg/s (≥ 0.8 of the baseline)", f["msgs_per_s"], "msg/s",
+                    "plain mcap Writer, msg/s", p["baseline_writer_msgs_per_s"],
+                    met=f["ratio_to_baseline"] >= 0.8, load=p["_load"]))  # fmt: skip
+    step = next((st for st in p["steps"] if st["axes"] == 32), None)
+    if step is not None:
+        p99 = step["latency_p99_us"]
+        out.append(_row("4", "stamp→write p99 at 32 axes (≤ 2000)", p99, "µs", "goal", 2000.0,
+                        met=p99 <= 2000 and step["zero_loss"], load=p["_load"]))  # fmt: skip
+    if "memory" in p:
+        mem = p["memory"]
+        out.append(_row("4", f"recorder RSS trend, {mem['axes']} axes", mem["slope_second_half_mb_per_min"],
+                        "MB/min", "peak RSS MB", mem["peak_rss_mb"], load=p["_load"]))  # fmt: skip
+    i = r["identify"]
+    ident, alone = i["identify"], i["mcap_alone"]
+    fast = ident["total"] <= 10.0 * i["hours"]
+    out.append(_row("6", f"identify a {i['hours']:g} h log end to end (≤ 10 s/h)", ident["total"], "s",
+                    "the mcap library alone reading it, s", alone["read_s"], met=fast,
+                    load=i["_load"]))  # fmt: skip
+    rss = ident["peak_rss_mb"]
+    out.append(_row("6", "identify peak RSS (≤ 1024)", rss, "MB", "the mcap library alone, peak RSS MB",
+                    alone["peak_rss_mb"], met=rss <= 1024, load=i["_load"]))  # fmt: skip
+    return out
+
+
+def table(r: dict[str, Any]) -> str:
+    m = r["machine"]
+    lines = [
+        f"Measured {r['date']} on {m['host']} ({m['cpus']} CPUs, {m['cpu']}; Python {m['python']}; "
+        f"{m['system']}){' — short version' if r['short'] else ''}.",
+        "",
+        "| goal | figure | value | baseline (same run) | baseline value | ratio | met | load (start → end) |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for row in r["rows"]:
+        ratio = "–" if row["ratio"] is None else f"{row['ratio']:.2f}"
+        met = {True: "yes", False: "**no**", None: "–"}[row["met"]]
+        lines.append(
+            f"| {row['goal']} | {row['figure']} | {row['value']:.3g} {row['unit']} | {row['baseline']} | "
+            f"{row['baseline_value']:.3g} | {ratio} | {met} | {row['load'][0]:.1f} → {row['load'][1]:.1f} |"
+        )
+    if "demo" in r:
+        phases = ", ".join(f"{k} {v:.1f} s" for k, v in r["demo"]["phases_s"].items())
+        lines += ["", f"Demo phases: {phases}."]
+    return "\n".join(lines)
