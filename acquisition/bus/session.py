@@ -3,7 +3,8 @@
 The embedded default needs no router and stays on this machine: peer mode, multicast scouting off,
 every process listens on ``tcp/127.0.0.1:7447`` if that port is free and on a port of its own, and
 connects to 7447 (the first process holds the port; the others connect to it, learn each other's own
-ports by gossip and connect directly).
+ports by gossip and connect directly). With ``--connect`` (a client of a cell's router, or a peer of a
+named one) a lost link is retried every 0.1…1 s (:data:`RECONNECT_RETRY`).
 
 A ``--zenoh-config FILE`` (zenoh JSON5: TLS, authentication, access control…) replaces the embedded
 default; ``--mode``, ``--connect`` and ``--listen`` given on the command line override the file. A
@@ -29,8 +30,10 @@ import ipaddress
 import json
 import re
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from types import MappingProxyType
 
 import zenoh
 
@@ -42,6 +45,13 @@ LOOPBACK_ANY_PORT = "tcp/127.0.0.1:0"
 MODES = ("peer", "client", "router")
 CONNECT_WAIT_S = 5.0
 """default of :attr:`ZenohOptions.connect_wait_s` [s]"""
+RECONNECT_RETRY: Mapping[str, int] = MappingProxyType(
+    {"period_init_ms": 100, "period_max_ms": 1000, "period_increase_factor": 2}
+)
+"""``connect/retry`` of a session that connects: a router or peer that cannot be reached, or whose link
+was lost (a router restarted), is tried again after 0.1 s, then at doubling intervals up to every 1 s,
+so a client is back within about a second of its router (Zenoh's own default, 1 s doubling to 4 s,
+leaves it up to 4 s longer: docs/deployment.md)"""
 TLS_FILE_KEYS = (
     "root_ca_certificate",
     "listen_certificate",
@@ -202,6 +212,7 @@ def build_config(options: ZenohOptions) -> zenoh.Config:
             if options.config_file is None:
                 # do not block open() forever when the other side is not up yet; retry in background
                 _insert(config, "connect/timeout_ms", 10_000)
+                _insert(config, "connect/retry", dict(RECONNECT_RETRY))
         if options.listen:
             _insert(config, "listen/endpoints", list(options.listen))
     except zenoh.ZError as exc:
