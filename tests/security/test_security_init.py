@@ -112,8 +112,8 @@ def test_only_the_planner_may_put_moves_and_stops_and_the_recorder_puts_nothing(
             k for r in rules if "put" in r["messages"] and r["flows"] == ["ingress"] for k in r["key_exprs"]
         )
     assert puts == {
-        "planner": ["axisflow/*/stop", "axisflow/*/trajectory"],
-        "planner-cell2": ["axisflow/*/stop", "axisflow/*/trajectory"],
+        "planner": ["axisflow/*/plan", "axisflow/*/stop", "axisflow/*/trajectory"],
+        "planner-cell2": ["axisflow/*/plan", "axisflow/*/stop", "axisflow/*/trajectory"],
         "bridge": ["axisflow/*/drive", "axisflow/*/event", "axisflow/*/setpoint", "axisflow/*/state"],
         "recorder": [],
     }
