@@ -84,9 +84,14 @@ def test_a_router_restart_keeps_every_axis_safe_and_the_recording_marks_the_gap_
             seq = _sequences(recording, topic)
             steps = np.diff(seq)
             assert (steps >= 1).all(), f"{topic}: a sequence number repeated or out of order"
-            [gap] = np.flatnonzero(steps > 1)  # one gap: the router's outage, nothing else
-            assert steps[gap] - 1 == stats["missed"], topic
             columns = read_joint_states(recording, topic)
+            gaps = np.flatnonzero(steps > 1)
+            where = [(int(steps[g] - 1), (int(columns.stamp_ns[g]) - restart_wall_ns) / 1e9) for g in gaps]
+            # one gap, the router's outage, and nothing else (telemetry drops on congestion: a machine
+            # so loaded that a process gets no CPU for a while loses samples elsewhere too)
+            assert len(gaps) == 1, f"{topic}: gaps (samples, s after the restart began): {where}"
+            gap = gaps[0]
+            assert steps[gap] - 1 == stats["missed"], topic
             last_before, first_after = columns.stamp_ns[gap], columns.stamp_ns[gap + 1]
             # the gap is the outage: it opens after the stop was asked and closes once the clients are back
             assert last_before >= restart_wall_ns - 1_000_000_000, topic
