@@ -98,16 +98,17 @@ def _measure(tmp: Path, n_axes: int, kind: str) -> dict:
 
 
 def _start_moves(senders: dict[str, MoveSender], running: tuple[float, float, float]) -> None:
-    first = {}
+    first, queued = {}, {}
     for axis, sender in senders.items():
         if not sender.wait_for_bridge(WAIT_S):
             raise RuntimeError(f"the bridge of {axis} did not answer")
         first[axis] = sender.send(*running)
-        sender.send(*QUEUED)
-    for axis, sender in senders.items():
-        started = sender.wait_status(first[axis].move_id, {MoveState.STARTED}, WAIT_S)
-        if started is None or started.state is not MoveState.STARTED:
-            raise RuntimeError(f"the first move of {axis} did not start: {started}")
+        queued[axis] = sender.send(*QUEUED)
+    for axis, sender in senders.items():  # the first runs, the second waits in the bridge's queue
+        for move, state in ((first[axis], MoveState.STARTED), (queued[axis], MoveState.ACCEPTED)):
+            said = sender.wait_status(move.move_id, {state}, WAIT_S)
+            if said is None or said.state is not state:
+                raise RuntimeError(f"move {move.move_id} of {axis} was not {state.name.lower()}: {said}")
 
 
 def _move_after(senders: dict[str, MoveSender]) -> bool:

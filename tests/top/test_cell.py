@@ -39,14 +39,16 @@ def test_a_router_restart_keeps_every_axis_safe_and_the_recording_marks_the_gap_
         cell.start_bridges(wait_subscribers_s=10.0)  # each waits for the recorder: it records every sample
         session = stack.enter_context(open_session(ZenohOptions(mode="client", connect=(layout.endpoint,))))
         senders = {axis: stack.enter_context(MoveSender(session, AxisKeys(axis))) for axis in layout.axes}
-        first = {}
+        first, queued = {}, {}
         for axis, sender in senders.items():
             assert sender.wait_for_bridge(10.0), axis
             first[axis] = sender.send(*MOVES[0])
-            sender.send(*MOVES[1])
-        for axis, sender in senders.items():
+            queued[axis] = sender.send(*MOVES[1])
+        for axis, sender in senders.items():  # the first runs, the second waits in the bridge's queue
             started = sender.wait_status(first[axis].move_id, {MoveState.STARTED}, 10.0)
             assert started is not None and started.state is MoveState.STARTED, axis
+            accepted = sender.wait_status(queued[axis].move_id, {MoveState.ACCEPTED}, 10.0)
+            assert accepted is not None and accepted.state is MoveState.ACCEPTED, axis
 
         restart_wall_ns = time.time_ns()
         restart = cell.restart_router()  # SIGINT, then a new router on the same endpoint
