@@ -13,10 +13,10 @@ behind it when the router goes:
   out (``transport/link/tx/lease``, 10 s by default); then SIGCONT.
 
 Measured per outage: when the clients noticed (the planner's session lost its router), per axis the
-samples lost (the recorder's sequence gaps) and the gap in drive time, when the first sample after the
-gap came (after the new router listened, or after SIGCONT), what each bridge did with its moves (the
-running one completed, the queued one dropped with its sender's token), and that a move sent once the
-router was back completed.
+samples lost (the recorder's sequence gaps: how many, from when), when the recorder wrote samples again
+after the new router listened (or after SIGCONT), what each bridge did with its moves (the running one
+completed, the queued one dropped with its sender's token), and that a move sent once the router was
+back completed.
 """
 
 from __future__ import annotations
@@ -121,22 +121,23 @@ def _move_after(senders: dict[str, MoveSender]) -> bool:
 def _axis_outage(
     path: Path, axis: str, summary: dict, bridge: dict, went_wall_ns: int, back_wall_ns: int
 ) -> dict:
-    """One axis: its bridge's moves, the samples the recorder missed, the gaps in drive time."""
+    """One axis: its bridge's moves, the samples the recorder missed and where, and when samples
+    flowed again (the first written after the router was back, by the recorder's clock)."""
     topic = topic_for_key(AxisKeys(axis).state)
     stats = summary["topics"][topic]
     columns = read_joint_states(path, topic)
     seq, stamps = columns.sequence, columns.stamp_ns
     gaps = np.flatnonzero(np.diff(seq) > 1)
-    longest = max(gaps, key=lambda g: stamps[g + 1] - stamps[g]) if len(gaps) else None
+    first_gap_ms = (stamps[gaps[0]] - went_wall_ns) / 1e6 if len(gaps) else None
+    resumed = columns.log_time_ns[columns.log_time_ns >= back_wall_ns]
     return {
         "ticks": bridge["ticks"],
         "recorded": stats["messages"],
         "missed": stats["missed"],
         "duplicates": stats["duplicates"],
         "gaps": len(gaps),
-        "gap_ms": None if longest is None else (stamps[longest + 1] - stamps[longest]) / 1e6,
-        "gap_opened_after_ms": None if longest is None else (stamps[longest] - went_wall_ns) / 1e6,
-        "first_sample_after_back_ms": None if longest is None else (stamps[longest + 1] - back_wall_ns) / 1e6,
+        "first_gap_after_ms": first_gap_ms,
+        "resumed_after_back_ms": (resumed.min() - back_wall_ns) / 1e6 if resumed.size else None,
         "moves_completed": bridge["moves_completed"],
         "moves_dropped": bridge["moves_dropped"],
         "moves_rejected": bridge["moves_rejected"],
@@ -158,9 +159,9 @@ def format_outages(outages: dict[str, dict]) -> str:
         for axis, a in o["per_axis"].items():
             lines.append(
                 f"    {axis}: {a['recorded']} of {a['ticks']} samples recorded, {a['missed']} missed in "
-                f"{a['gaps']} gap(s), duplicates {a['duplicates']}; longest gap {a['gap_ms']:.0f} ms of "
-                f"drive time, opened {a['gap_opened_after_ms']:.0f} ms after the router went, first sample "
-                f"{a['first_sample_after_back_ms']:.0f} ms after it was back; moves completed "
+                f"{a['gaps']} gap(s) (the first from {a['first_gap_after_ms']:.0f} ms after the router "
+                f"went), duplicates {a['duplicates']}; written again "
+                f"{a['resumed_after_back_ms']:.0f} ms after it was back; moves completed "
                 f"{a['moves_completed']}, dropped {a['moves_dropped']}, rejected {a['moves_rejected']}"
             )
     return "\n".join(lines)
