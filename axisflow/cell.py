@@ -87,9 +87,12 @@ class CellLayout:
             raise AxisflowError(f"a cell needs distinct axes, not {', '.join(self.axes) or 'none'}")
 
     @classmethod
-    def on_loopback(cls, count: int, **options: object) -> CellLayout:
+    def on_loopback(
+        cls, count: int, bridge_speed: float = 1.0, bridge_options: tuple[str, ...] = ()
+    ) -> CellLayout:
         """``count`` axes around a router on a free port of 127.0.0.1."""
-        return cls(axis_names(count), f"tcp/127.0.0.1:{free_port()}", **options)  # type: ignore[arg-type]
+        endpoint = f"tcp/127.0.0.1:{free_port()}"
+        return cls(axis_names(count), endpoint, bridge_speed=bridge_speed, bridge_options=bridge_options)
 
     @property
     def client(self) -> tuple[str, ...]:
@@ -251,11 +254,9 @@ def run_cell_demo(
 ) -> CellDemoReport:
     """``axisflow demo --axes N`` (see the module docstring) into ``settings.out``."""
     stop = stop or threading.Event()
+    layout = CellLayout.on_loopback(axes, settings.speed, _bridge_options(settings))  # checked first
     out = settings.out
     out.mkdir(parents=True, exist_ok=True)
-    layout = CellLayout.on_loopback(
-        axes, bridge_speed=settings.speed, bridge_options=_bridge_options(settings)
-    )
     report = CellDemoReport(out, layout.axes)
     t_start = time.monotonic()
     progress(

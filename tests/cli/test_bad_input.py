@@ -892,6 +892,16 @@ CASES = [
         untouched=("dm",),
     ),
     case(
+        "demo: a cell of more axes than processes fit",
+        "demo",
+        "--out",
+        "dm",
+        "--axes",
+        "99",
+        says=("--axes 99", "1…32"),
+        untouched=("dm",),
+    ),
+    case(
         "demo: session folder not empty",
         "demo",
         "--out",
