@@ -127,3 +127,20 @@ def test_demo_of_a_cell_gives_table_2_per_axis_from_one_recording(cli, tmp_path)
     assert json.loads(again.stdout) == json.loads((out / "table2-a1.json").read_text())
     refused = cli.run("table2", str(out / "cell.mcap"), "--out", str(tmp_path / "t3"))
     assert refused.returncode == 2 and "holds 2 axes (a0, a1): choose one with --axis" in refused.stderr
+
+
+@pytest.mark.slow
+def test_cell_benchmark_runs_both_paths_in_one_run(cli):
+    done = cli.run(
+        "bench", "cell", "--json", "--axes", "2", "--seconds", "0.5", "--outage-axes", "0", timeout=300
+    )
+    assert done.returncode == 0, done.stderr[-3000:]
+    result = json.loads(done.stdout)
+    steps = {s["path"]: s for s in result["steps"]}
+    assert set(steps) == {"peer-to-peer", "router"}
+    for path, step in steps.items():
+        assert step["axes"] == 2 and step["published"] == 1000, path
+        assert step["recorded"] + step["lost"] == step["published"] and step["recorded"] > 0, path
+        assert step["latency_p50_us"] > 0, path
+    assert steps["router"]["router_cpu_s"] > 0 and steps["peer-to-peer"]["router_cpu_s"] is None
+    assert set(result["max_axes_zero_loss"]) == {"peer-to-peer", "router"}
