@@ -116,7 +116,7 @@ class CellLayout:
         return ("record", "-o", str(path), "--keys", all_keys(self.prefix), "--json", *self.client)
 
     def planner(self, axis: str, options: tuple[str, ...]) -> tuple[str, ...]:
-        return ("planner", "--axis", axis, "--prefix", self.prefix, "--json", *options, *self.client)
+        return ("planner", "--axis", axis, "--prefix", self.prefix, *options, *self.client)
 
 
 @dataclass(frozen=True)
@@ -304,7 +304,9 @@ def _run_planners(
     cell: Cell, settings: DemoSettings, progress: Callable[[str], None], stop: threading.Event
 ) -> None:
     """One planner per axis, axis ``aK`` with seed + K, all at once; returns when all have ended well
-    (a :class:`CellError` naming the first that failed; ``stop``: KeyboardInterrupt)."""
+    (a :class:`CellError` naming the first that failed; ``stop``: KeyboardInterrupt). Every
+    :data:`PROGRESS_PERIOD_S` it passes on each planner's latest progress line, and at the end each
+    one's summary of its runs."""
     layout = cell.layout
     planners = {}
     for k, axis in enumerate(layout.axes):
@@ -312,7 +314,8 @@ def _run_planners(
         planners[axis] = cell.launcher.start(f"planner-{axis}", *layout.planner(axis, options))
     progress(
         f"experiment: {len(planners)} planners, {settings.waypoints} way points each (axis aK: seed "
-        f"{settings.seed} + K), 2 cases × 3 laws, solver {settings.solver}"
+        f"{settings.seed} + K), 2 cases × 3 laws, solver {settings.solver}, {settings.lookahead_s:g} s "
+        "of drive time queued"
     )
     next_word = time.monotonic() + PROGRESS_PERIOD_S
     while any(p.poll() is None for p in planners.values()):
@@ -331,11 +334,8 @@ def _run_planners(
         end = cell.launcher.wait(p)
         if end.returncode != 0:
             raise CellError(f"the planner of axis {axis} failed: {_last_line(end.stderr)}")
-        for run in end.json():
-            progress(
-                f"  {axis}: {run['case']} {run['law']}: {run['moves']} moves, "
-                f"{run['total_time_s']:.2f} s, {run['energy_model_j']:.1f} J (model)"
-            )
+        for line in end.stdout.splitlines():
+            progress(f"  {axis}: {line.strip()}")
 
 
 def _recording_counts(

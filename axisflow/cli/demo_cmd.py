@@ -56,9 +56,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--lookahead-s",
         type=finite_float,
-        default=DEFAULT_LOOKAHEAD_S,
+        default=None,
         metavar="S",
-        help=f"and at least S seconds of drive time queued (default {DEFAULT_LOOKAHEAD_S:g})",
+        help=f"and at least S seconds of drive time queued (default {DEFAULT_LOOKAHEAD_S:g}; with --axes N, "
+        f"{DEFAULT_LOOKAHEAD_S:g}·N: N bridges at --speed 0 share the machine with N planners)",
     )
     p.add_argument(
         "--params", metavar="FILE", default=None, help="nominal axis parameters (default: packaged)"
@@ -102,7 +103,7 @@ def run(args: argparse.Namespace) -> int:
         speed=args.speed,
         solver=args.solver,
         lookahead=args.lookahead,
-        lookahead_s=args.lookahead_s,
+        lookahead_s=DEFAULT_LOOKAHEAD_S * args.axes if args.lookahead_s is None else args.lookahead_s,
         params_path=args.params,
         plant_profile=args.plant_profile,
         drive=args.drive,
