@@ -892,6 +892,14 @@ CASES = [
         untouched=("dm",),
     ),
     case(
+        "cell: a launch file with an unknown key",
+        "cell",
+        "up",
+        "bad-cell.toml",
+        says=("bad-cell.toml", "unknown key(s) routers", "allowed: router, listen"),
+        untouched=("logs",),
+    ),
+    case(
         "demo: a cell of more axes than processes fit",
         "demo",
         "--out",
@@ -1240,6 +1248,9 @@ def inputs(tmp_path_factory, damage) -> Path:
     (d / "full").mkdir()
     (d / "full" / "keep.txt").write_text("a session\n")
     _recording(d / "still.mcap")
+    (d / "bad-cell.toml").write_text(
+        'router = "tcp/127.0.0.1:7447"\nrouters = 2\n[machine.a]\nrouter = true\n'
+    )
     write_cell_log(
         d / "cell.mcap", [SyntheticLogSpec(duration_s=0.2, axis=f"a{k}", seed=k) for k in range(3)]
     )
