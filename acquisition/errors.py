@@ -49,6 +49,10 @@ class RecordingError(AcquisitionError):
     """An MCAP recording cannot be written, read or recovered."""
 
 
+class AxisNotRecordedError(AcquisitionError, ValueError):
+    """An axis asked for is not in a recording (the message lists the axes the recording holds)."""
+
+
 class DamagedLogWarning(AxisflowWarning):
     """A part of a recording (a chunk) could not be read and was skipped; the message names the file,
     the chunk, its byte offset, the reason and what was lost."""

@@ -78,7 +78,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 # --------------------------------------------------------------------------- publisher process
 
 
-def _payload_template(axis: str) -> bytearray:
+def payload_template(axis: str) -> bytearray:
     from axisflow.acquisition import AxisSample
 
     return bytearray(AxisSample(0, axis, 0.4, 0.1, 12.0, 133.0, 33.0, 0.05).encode())
@@ -118,7 +118,7 @@ def publisher_main() -> None:
             SequencedPublisher(session, AxisKeys(f"bench{i}").state, "sensor_msgs/msg/JointState", traffic)
             for i in range(n_axes)
         ]
-        templates = [_payload_template(f"bench{i}") for i in range(n_axes)]
+        templates = [payload_template(f"bench{i}") for i in range(n_axes)]
         matched = wait_for_subscribers(pubs, 15.0)
         n_ticks = round(seconds * EXECUTION_RATE_HZ)
         wall, late = play(pubs, templates, n_ticks, paced=speed > 0)
@@ -132,7 +132,7 @@ def publisher_main() -> None:
 # --------------------------------------------------------------------------- helpers
 
 
-def _rss_kb(pid: int, field: str = "VmRSS") -> int:
+def rss_kb(pid: int, field: str = "VmRSS") -> int:
     try:
         for line in Path(f"/proc/{pid}/status").read_text().splitlines():
             if line.startswith(field + ":"):
@@ -142,7 +142,7 @@ def _rss_kb(pid: int, field: str = "VmRSS") -> int:
     return 0
 
 
-def _analyse(path: Path) -> dict[str, object]:
+def analyse_recording(path: Path) -> dict[str, object]:
     """Counts, gaps and stamp→write latency of a benchmark recording."""
     from axisflow.acquisition import iter_recording
     from axisflow.acquisition.wire.sequence import SequenceTracker
@@ -187,10 +187,10 @@ def _run_step(tmp: Path, n_axes: int, seconds: float, speed: float = 1.0, sample
         t0 = time.monotonic()
         while pub.poll() is None:
             if sample_rss:
-                rss_trace.append((time.monotonic() - t0, _rss_kb(rec.pid)))
+                rss_trace.append((time.monotonic() - t0, rss_kb(rec.pid)))
             time.sleep(0.25)  # the sampling period of the RSS trace
         published = launcher.wait(pub)
-        peak_kb = _rss_kb(rec.pid, "VmHWM")
+        peak_kb = rss_kb(rec.pid, "VmHWM")
         recorded = launcher.stop(rec, 60.0)  # its stop proves the publisher's last samples arrived
     pub_out, pub_err, rec_out = published.stdout, published.stderr, recorded.stdout
     if published.returncode != 0 or not pub_out.strip():
@@ -199,7 +199,7 @@ def _run_step(tmp: Path, n_axes: int, seconds: float, speed: float = 1.0, sample
     if not p["matched"]:
         raise RuntimeError(f"the publisher found no recorder subscribed within 15 s ({n_axes} axes)")
     summary = json.loads(rec_out) if rec_out.strip() else {}
-    a = _analyse(out)
+    a = analyse_recording(out)
     published = p["ticks"] * p["axes"]
     out.unlink(missing_ok=True)
     return {
@@ -229,7 +229,7 @@ def _baseline_writer(n: int, tmp: Path) -> float:
     from axisflow.acquisition.wire.messages import JOINT_STATE_SCHEMA
     from mcap.writer import CompressionType, Writer
 
-    payload = bytes(_payload_template("bench0"))
+    payload = bytes(payload_template("bench0"))
     path = tmp / "baseline.mcap"
     with open(path, "wb") as fh:
         w = Writer(fh, compression=CompressionType.ZSTD)

@@ -35,17 +35,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..acquisition.wire.keys import DEFAULT_PREFIX
-
 TIMELINE = "stamp"
 """the one timeline: drive time [ns since the Unix epoch]"""
 ROOT = "axes"
-
-
-def axis_label(prefix: str, axis: str) -> str:
-    """The label of an axis in entity paths and view names: ``axis`` under the default prefix, else
-    ``prefix/axis`` (so two prefixes with the same axis name never share entities)."""
-    return axis if prefix == DEFAULT_PREFIX else f"{prefix}/{axis}"
 
 
 @dataclass(frozen=True)

@@ -39,6 +39,7 @@ from ..acquisition.bus.readiness import JoinedSubscriber
 from ..acquisition.bus.session import check_key_expression
 from ..acquisition.errors import WireError
 from ..acquisition.histogram import DurationHistogram, DurationStats
+from ..acquisition.logs.recorded_axes import axis_label
 from ..acquisition.wire.attachment import unpack_attachment
 from ..acquisition.wire.move_status import MoveStatus
 from ..acquisition.wire.params_estimate import ParamsEstimate
@@ -46,7 +47,7 @@ from ..acquisition.wire.plan_record import PlanRecord
 from ..acquisition.wire.sequence import SequenceTracker
 from ..model import AxisParams
 from .blueprint import view_blueprint
-from .entities import AxisEntities, axis_label
+from .entities import AxisEntities
 from .errors import VizError
 from .outputs import RerunOutput
 from .samples import AxisSamples, decode_payloads

@@ -1,11 +1,10 @@
 """A view of recorded sessions: the axes of one or more MCAP logs as one rerun recording.
 
-An axis is found by its topics (docs/acquisition.md): ``/<prefix>/<axis>/state`` and ``…/setpoint``
-(``sensor_msgs/msg/JointState``), ``…/event`` (``axisflow_msgs/msg/MoveStatus``), ``…/plan``
-(``axisflow_msgs/msg/PlanResult``) and ``…/params`` (``axisflow_msgs/msg/ParamsEstimate``, an adaptive
-node's); an axis needs a state or a setpoint topic, the others are drawn when present. The logs of a
-session (e.g. the demo's excitation and experiment recordings) land in one recording, each axis in one
-column of the layout, the logs one after the other on the drive-time timeline.
+An axis is found by its topics (:mod:`axisflow.acquisition.logs.recorded_axes`): its state or setpoint
+topic, and its move statuses, plan records and an adaptive node's parameter estimates, drawn when
+present. The logs of a session (e.g. the demo's excitation and experiment recordings) land in
+one recording, each axis in one column of the layout, the logs one after the other on the drive-time
+timeline.
 
 Reading uses the fast column reader (:func:`~axisflow.acquisition.read_joint_states`, ~1 s per hour
 of a 1 kHz topic; the state and setpoint topics of an axis are read at once, on two threads) and
@@ -15,7 +14,6 @@ before anything is written.
 
 from __future__ import annotations
 
-import re
 from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
@@ -24,70 +22,33 @@ from pathlib import Path
 import rerun as rr
 import rerun.blueprint as rrb
 
-from ..acquisition.logs.reader import TopicInfo, list_topics, read_joint_states, read_messages
+from ..acquisition.errors import AxisNotRecordedError
+from ..acquisition.logs.reader import list_topics, read_joint_states, read_messages
+from ..acquisition.logs.recorded_axes import RecordedAxis, axis_names, find_axes
 from ..acquisition.wire.move_status import MOVE_STATUS_TYPE, MoveStatus
 from ..acquisition.wire.params_estimate import PARAMS_ESTIMATE_TYPE, ParamsEstimate
 from ..acquisition.wire.plan_record import PLAN_TYPE, PlanRecord
 from ..model import AxisParams
 from .blueprint import view_blueprint
-from .entities import AxisEntities, axis_label
+from .entities import AxisEntities
 from .errors import VizError
 from .outputs import RerunOutput, ViewOutput, view_size_estimate
 from .samples import AxisSamples
 from .scene import AxisScene
-
-_AXIS_TOPIC = re.compile(r"^/(?P<prefix>.+)/(?P<axis>[^/]+)/(?P<kind>state|setpoint|event|plan|params)$")
-_KIND_TYPES = {"event": MOVE_STATUS_TYPE, "plan": PLAN_TYPE, "params": PARAMS_ESTIMATE_TYPE}
-
-
-@dataclass(frozen=True)
-class AxisTopics:
-    """The topics of one axis in one log (None: absent)."""
-
-    prefix: str
-    axis: str
-    state: str | None = None
-    setpoint: str | None = None
-    event: str | None = None
-    plan: str | None = None
-    params: str | None = None
-
-    @property
-    def label(self) -> str:
-        return axis_label(self.prefix, self.axis)
-
-
-def find_axes(topics: Sequence[TopicInfo]) -> list[AxisTopics]:
-    """The axes among a log's topics, sorted by label (see the module docstring)."""
-    found: dict[tuple[str, str], dict[str, str]] = {}
-    for t in topics:
-        m = _AXIS_TOPIC.match(t.topic)
-        if m is None:
-            continue
-        kind = m["kind"]
-        wanted = (
-            t.is_joint_state
-            if kind in ("state", "setpoint")
-            else (t.schema_name == _KIND_TYPES[kind] and t.message_encoding == "cdr")
-        )
-        if wanted:
-            found.setdefault((m["prefix"], m["axis"]), {})[kind] = t.topic
-    axes = [
-        AxisTopics(p, a, **kinds) for (p, a), kinds in found.items() if {"state", "setpoint"} & kinds.keys()
-    ]
-    return sorted(axes, key=lambda a: a.label)
 
 
 @dataclass(frozen=True)
 class SessionLogs:
     """Logs checked for viewing, with the axes each holds."""
 
-    logs: tuple[tuple[Path, tuple[AxisTopics, ...]], ...]
+    logs: tuple[tuple[Path, tuple[RecordedAxis, ...]], ...]
 
     @classmethod
-    def open(cls, paths: Sequence[str | Path]) -> SessionLogs:
+    def open(cls, paths: Sequence[str | Path], only: Sequence[str] = ()) -> SessionLogs:
         """Check every log (exists, is MCAP, holds an axis); a :class:`VizError` (or the reader's
-        ``RecordingError``) names the first that does not."""
+        ``RecordingError``) names the first that does not. ``only``: the axes to view (by name or
+        label; default: every axis); one held by none of the logs is an
+        :class:`~axisflow.acquisition.errors.AxisNotRecordedError` listing the axes they hold."""
         if not paths:
             raise VizError("no log to view: give one or more LOG.mcap")
         logs = []
@@ -102,7 +63,25 @@ class SessionLogs:
                     f"/<prefix>/<axis>/setpoint (its topics: {names})"
                 )
             logs.append((p, tuple(axes)))
-        return cls(tuple(logs))
+        return cls(tuple(logs)).only(only) if only else cls(tuple(logs))
+
+    def only(self, names: Sequence[str]) -> SessionLogs:
+        """The session with the axes ``names`` (axis names or labels) only; a log that holds none of
+        them drops out."""
+        held = {a.label: a for _p, axes in self.logs for a in axes}
+        missing = [n for n in names if not any(n in (a.axis, a.label) for a in held.values())]
+        if missing:
+            paths = ", ".join(str(p) for p, _axes in self.logs)
+            raise AxisNotRecordedError(
+                f"--axis {', '.join(missing)}: not in {paths}; "
+                f"{'it holds' if len(self.logs) == 1 else 'they hold'} {axis_names(list(held.values()))}"
+            )
+        kept = []
+        for path, axes in self.logs:
+            chosen = tuple(a for a in axes if a.axis in names or a.label in names)
+            if chosen:
+                kept.append((path, chosen))
+        return SessionLogs(tuple(kept))
 
     @property
     def labels(self) -> list[str]:
@@ -160,7 +139,7 @@ def log_session(rec: rr.RecordingStream, session: SessionLogs, params: AxisParam
     return summary
 
 
-def _log_axis(scene: AxisScene, path: Path, topics: AxisTopics, counts: AxisSummary) -> None:
+def _log_axis(scene: AxisScene, path: Path, topics: RecordedAxis, counts: AxisSummary) -> None:
     """One axis of one log: the records first (so that each move's span is known when its samples
     come), then the setpoints, then the measured samples (read while the setpoints are)."""
     if topics.plan is not None:

@@ -6,8 +6,10 @@ from __future__ import annotations
 
 import ipaddress
 import re
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from types import MappingProxyType
 
 from ..errors import ZenohConfigError
 
@@ -16,6 +18,13 @@ LOOPBACK_ANY_PORT = "tcp/127.0.0.1:0"
 MODES = ("peer", "client", "router")
 CONNECT_WAIT_S = 5.0
 """default of :attr:`ZenohOptions.connect_wait_s` [s]"""
+RECONNECT_RETRY: Mapping[str, int] = MappingProxyType(
+    {"period_init_ms": 100, "period_max_ms": 1000, "period_increase_factor": 2}
+)
+"""``connect/retry`` of a session that connects: a router or peer that cannot be reached, or whose link
+was lost (a router restarted), is tried again after 0.1 s, then at doubling intervals up to every 1 s,
+so a client is back within about a second of its router (Zenoh's own default, 1 s doubling to 4 s,
+leaves it up to 4 s longer: docs/deployment.md)"""
 TLS_FILE_KEYS = (
     "root_ca_certificate",
     "listen_certificate",

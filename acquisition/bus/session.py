@@ -3,7 +3,8 @@
 The embedded default needs no router and stays on this machine: peer mode, multicast scouting off,
 every process listens on ``tcp/127.0.0.1:7447`` if that port is free and on a port of its own, and
 connects to 7447 (the first process holds the port; the others connect to it, learn each other's own
-ports by gossip and connect directly).
+ports by gossip and connect directly). With ``--connect`` (a client of a cell's router, or a peer of a
+named one) a lost link is retried every 0.1…1 s (:data:`RECONNECT_RETRY`).
 
 A ``--zenoh-config FILE`` (zenoh JSON5: TLS, authentication, access control…) replaces the embedded
 default; ``--mode``, ``--connect`` and ``--listen`` given on the command line override the file. A
@@ -40,6 +41,7 @@ from .options import (
     DEFAULT_ENDPOINT,
     LOOPBACK_ANY_PORT,
     MODES,
+    RECONNECT_RETRY,
     TLS_FILE_KEYS,
     ZenohOptions,
     check_endpoint,
@@ -54,6 +56,7 @@ __all__ = [
     "DEFAULT_ENDPOINT",
     "LOOPBACK_ANY_PORT",
     "MODES",
+    "RECONNECT_RETRY",
     "TLS_FILE_KEYS",
     "ZenohOptions",
     "build_config",
@@ -129,6 +132,7 @@ def build_config(options: ZenohOptions) -> zenoh.Config:
             if options.config_file is None:
                 # do not block open() forever when the other side is not up yet; retry in background
                 _insert(config, "connect/timeout_ms", 10_000)
+                _insert(config, "connect/retry", dict(RECONNECT_RETRY))
         if options.listen:
             _insert(config, "listen/endpoints", list(options.listen))
     except zenoh.ZError as exc:

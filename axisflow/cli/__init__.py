@@ -46,6 +46,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "recover_cmd",
     "security_cmd",
     "router_cmd",
+    "cell_cmd",
     "view_cmd",
     "figures_cmd",
 )

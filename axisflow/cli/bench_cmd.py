@@ -24,6 +24,7 @@ BENCHMARKS: dict[str, str] = {
     "moves": "moves",
     "startup": "startup",
     "all": "all",
+    "cell": "cell",
 }
 
 

@@ -56,9 +56,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--lookahead-s",
         type=finite_float,
-        default=DEFAULT_LOOKAHEAD_S,
+        default=None,
         metavar="S",
-        help=f"and at least S seconds of drive time queued (default {DEFAULT_LOOKAHEAD_S:g})",
+        help=f"and at least S seconds of drive time queued (default {DEFAULT_LOOKAHEAD_S:g}; with --axes N, "
+        f"{DEFAULT_LOOKAHEAD_S:g}·N: N bridges at --speed 0 share the machine with N planners)",
     )
     p.add_argument(
         "--params", metavar="FILE", default=None, help="nominal axis parameters (default: packaged)"
@@ -89,6 +90,15 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="M",
         help="with --adapt: minutes of axis time of way points per axis (default 10)",
     )
+    p.add_argument(
+        "--axes",
+        type=positive_int,
+        default=1,
+        metavar="N",
+        help="a cell of N axes instead (docs/deployment.md): N bridges, one recorder and a planner per axis "
+        "as processes through one Zenoh router, the experiment on each axis (way point seed + K on axis aK), "
+        "Table 2 per axis from one recording (default 1: the demo above)",
+    )
     p.set_defaults(func=run)
 
 
@@ -108,11 +118,13 @@ def run(args: argparse.Namespace) -> int:
         speed=args.speed,
         solver=args.solver,
         lookahead=args.lookahead,
-        lookahead_s=args.lookahead_s,
+        lookahead_s=DEFAULT_LOOKAHEAD_S * args.axes if args.lookahead_s is None else args.lookahead_s,
         params_path=args.params,
         plant_profile=args.plant_profile,
         drive=args.drive,
     )
+    if args.axes > 1:  # a cell of several axes through one router: axisflow/cell.py
+        return _run_cell(settings, args.axes)
     speed = "as fast as the recorder allows" if args.speed == 0 else f"at {args.speed:g}× real time"
     print(
         f"axisflow demo: {args.waypoints} way points (the paper: 100), solver {args.solver}, drive "
@@ -161,3 +173,26 @@ def _adapt(args: argparse.Namespace, out: Path) -> int:
         json=False,
     )
     return adapt.run(bench)
+
+
+def _run_cell(settings: DemoSettings, axes: int) -> int:
+    from ..cell import run_cell_demo
+
+    t0 = time.monotonic()
+
+    def progress(line: str) -> None:
+        print(f"[{time.monotonic() - t0:6.1f} s] {line}", file=sys.stderr, flush=True)
+
+    with stop_on_signals() as stop:
+        report = run_cell_demo(settings, axes, progress, stop)
+    for table in report.tables.values():
+        print(table_markdown(table))
+    print("E% (E_th − E_exp)/E_th per row and axis; samples recorded of those published:")
+    for axis, table in report.tables.items():
+        errors = " ".join(_pct(r.energy_error_pct).strip() for r in table.rows)
+        r = report.recording[axis]
+        print(f"  {axis}: {errors}; {r.recorded} of {r.ticks} samples, {r.missed} missed")
+    print(
+        f"\ndemo of a {axes}-axis cell finished in {report.wall_time_s:.0f} s; everything is in {report.out}/"
+    )
+    return 0

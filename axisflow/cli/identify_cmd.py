@@ -6,6 +6,8 @@ import argparse
 import json
 
 from ..acquisition.logs.reader import check_mcap
+from ..acquisition.logs.recorded_axes import choose_axis_of_logs, recorded_axes
+from ..acquisition.wire.keys import DEFAULT_PREFIX
 from ..arguments import add_params_option, finite_float, non_negative_int, params_from_args
 from ..identification.errors import IdentificationError
 from ..identification.extra_terms import ExtraTerms
@@ -34,7 +36,22 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--out", required=True, metavar="DIR", help="output directory (created if missing)")
     p.add_argument("--overwrite", action="store_true", help="replace the files of an earlier refit in DIR")
-    p.add_argument("--topic", default=DEFAULT_TOPIC, help=f"JointState topic (default {DEFAULT_TOPIC})")
+    which = p.add_mutually_exclusive_group()
+    which.add_argument(
+        "--axis",
+        default=None,
+        help="the axis to fit, in a recording of several (a cell's: a0, a1, …); default: the logs' only "
+        "axis (logs of several without --axis are refused with the list of their axes)",
+    )
+    which.add_argument(
+        "--topic",
+        default=None,
+        help=f"a JointState topic by name, for other recordings (default: the axis's state topic, "
+        f"{DEFAULT_TOPIC} for ours)",
+    )
+    p.add_argument(
+        "--prefix", default=None, help=f"key prefix of --axis (default: any; ours is {DEFAULT_PREFIX})"
+    )
     p.add_argument(
         "--joint",
         default=DEFAULT_JOINT,
@@ -127,10 +144,30 @@ def _orders(text: str) -> tuple[int, ...]:
     return tuple(orders)
 
 
+def _state_topic(args: argparse.Namespace, logs: list[str]) -> str:
+    """The JointState topic to fit: ``--topic``, else the state topic of ``--axis`` (or of the logs'
+    only axis) in every log; logs without any axis of ours keep the default topic, whose reading then
+    says what is wrong with them."""
+    if args.topic is not None:
+        if args.prefix is not None:
+            raise IdentificationError(
+                "--prefix goes with --axis, not with --topic (a topic names it already)"
+            )
+        return args.topic
+    if args.axis is None and args.prefix is None and not any(recorded_axes(log) for log in logs):
+        return DEFAULT_TOPIC
+    state = choose_axis_of_logs(logs, args.axis, args.prefix).state
+    assert state is not None  # chosen for its state topic
+    return state
+
+
 def run(args: argparse.Namespace) -> int:
     nominal = params_from_args(args)
+    logs = [*args.logs, *args.validate]
+    for log in logs:
+        check_mcap(log)
     settings = IdentifySettings(
-        topic=args.topic,
+        topic=_state_topic(args, logs),
         joint=args.joint,
         joint_kind=args.joint_kind,
         fit=tuple(name.strip() for name in args.fit.split(",") if name.strip()),
@@ -142,9 +179,6 @@ def run(args: argparse.Namespace) -> int:
             args.stroke_terms, _orders(args.cogging), auto_cogging=args.cogging.strip() == "auto"
         ),
     )
-    logs = [*args.logs, *args.validate]
-    for log in logs:
-        check_mcap(log)
     check_distinct_inputs(logs, "log")  # the same samples twice would shrink the uncertainty
     # a bad --out fails before the work, not after it
     out = check_output_files(args.out, REFIT_FILES, inputs=logs, overwrite=args.overwrite)

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 from ..acquisition.errors import ZenohConfigError
 from ..arguments import finite_float
-from ..processes import stop_on_signals
+from ..processes import notify_ready, stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 if TYPE_CHECKING:
@@ -78,6 +78,7 @@ def run(args: argparse.Namespace) -> int:
             "Ctrl-C or SIGTERM stops it",
             flush=True,
         )
+        notify_ready()  # to a launcher (a cell): the router listens
         stop.wait(args.duration)
         links = len(list(session.info.transports()))
     print(

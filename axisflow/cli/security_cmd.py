@@ -46,7 +46,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         default=",".join(DEFAULT_ROLES),
         metavar="R1,R2,…",
         help="roles to issue: planner, bridge, recorder, adapter, or KIND-NAME for more identities of a kind "
-        f"(e.g. planner-cell2); default: {','.join(DEFAULT_ROLES)}",
+        "(e.g. planner-cell2), and KIND@AXIS to limit one to an axis (bridge@a0, planner-line2@a3, "
+        f"bridge-m1@a0+a1; docs/deployment.md); default: {','.join(DEFAULT_ROLES)}",
     )
     init.add_argument(
         "--days",
@@ -89,7 +90,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--roles",
         required=True,
         metavar="R1,R2,…",
-        help="the new roles: planner, bridge, recorder, adapter, or KIND-NAME (e.g. recorder-laptop)",
+        help="the new roles: planner, bridge, recorder, adapter, or KIND-NAME (e.g. recorder-laptop), "
+        "KIND@AXIS for one limited to an axis (e.g. bridge@a4)",
     )
     add.add_argument(
         "--days",

@@ -5,7 +5,8 @@ from __future__ import annotations
 import argparse
 
 from ..acquisition.logs.reader import check_mcap
-from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
+from ..acquisition.logs.recorded_axes import choose_axis
+from ..acquisition.wire.keys import DEFAULT_PREFIX, AxisKeys
 from ..model.files import check_output_files
 from ..move_energy import write_move_energies
 from ..table2 import move_energies, recorded_runs, table_of_runs
@@ -27,8 +28,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--out", required=True, metavar="DIR", help="output directory (created if missing)")
     p.add_argument("--overwrite", action="store_true", help="replace an earlier table in DIR")
     p.add_argument("--label", default=None, help="only the runs with this plan label (default: all)")
-    p.add_argument("--axis", default=DEFAULT_AXIS, help=f"axis name (default: {DEFAULT_AXIS})")
-    p.add_argument("--prefix", default=DEFAULT_PREFIX, help=f"key prefix (default: {DEFAULT_PREFIX})")
+    p.add_argument(
+        "--axis",
+        default=None,
+        help="the axis of a recording of several (a cell's: a0, a1, …); default: the recording's only axis "
+        "(a recording of several without --axis is refused with the list of its axes)",
+    )
+    p.add_argument(
+        "--prefix", default=None, help=f"key prefix of the axis (default: any; ours is {DEFAULT_PREFIX})"
+    )
     p.add_argument("--json", action="store_true", help="print table2.json instead of the table")
     p.add_argument(
         "--per-move",
@@ -43,7 +51,8 @@ def run(args: argparse.Namespace) -> int:
     recording = check_mcap(args.recording)
     names = ("table2.md", "table2.json") + (("moves.csv", "moves.json") if args.per_move else ())
     out = check_output_files(args.out, names, inputs=[recording], overwrite=args.overwrite)
-    runs, accounting = recorded_runs(args.recording, AxisKeys(args.axis, args.prefix), args.label)
+    axis = choose_axis(recording, args.axis, args.prefix)
+    runs, accounting = recorded_runs(args.recording, AxisKeys(axis.axis, axis.prefix), args.label)
     table = table_of_runs(runs, accounting, "Table 2, on the axis", str(args.recording))
     json_path, md_path = write_table2(table, out)
     if args.per_move:

@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..acquisition.logs.reader import check_mcap
-from ..acquisition.wire.keys import all_keys
+from ..acquisition.wire.keys import AxisKeys, all_keys
 from ..arguments import add_params_option, finite_float, params_from_args, tcp_port_or_any
 from ..model import AxisParams
 from ..model.files import check_distinct_inputs
@@ -37,6 +37,14 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("logs", nargs="*", metavar="LOG.mcap", help="recordings to view (not with --live)")
     p.add_argument("--live", action="store_true", help="view the Zenoh keys live instead of logs")
+    p.add_argument(
+        "--axis",
+        action="append",
+        default=[],
+        metavar="A",
+        help="view only this axis of a recording of several (a cell's: a0, a1, …; repeatable); default: "
+        "every axis. With --live: one axis, its keys <prefix>/A/**",
+    )
     p.add_argument(
         "--keys", default=None, metavar="EXPR", help=f"with --live: key expression (default {all_keys()})"
     )
@@ -91,7 +99,7 @@ def run(args: argparse.Namespace) -> int:
         inputs=logs,
         overwrite=args.overwrite,
     )
-    session = SessionLogs.open(logs)
+    session = SessionLogs.open(logs, only=args.axis)
     with RerunOutput(output, session.blueprint()) as out:
         summary = log_session(out.rec, session, params)  # Ctrl-C here: nothing is written
         data = {
@@ -114,7 +122,9 @@ def _run_live(args: argparse.Namespace, params: AxisParams) -> int:
 
     if args.logs:
         raise VizError("--live views the network: give no LOG.mcap with it")
-    keys = check_keys(args.keys or all_keys())
+    if args.keys is not None and args.axis:
+        raise VizError(f"--keys {args.keys} and --axis {args.axis[0]} both choose the keys: give one")
+    keys = check_keys(args.keys or _live_keys(args.axis))
     if args.duration is not None and not args.duration > 0:
         raise VizError(f"--duration {args.duration} s must be > 0 s")
     output = ViewOutput(
@@ -137,6 +147,19 @@ def _run_live(args: argparse.Namespace, params: AxisParams) -> int:
     if output.rrd is not None and not args.json:
         print(f"wrote {output.rrd}", flush=True)
     return 0
+
+
+def _live_keys(axes: list[str]) -> str:
+    """The keys of ``--live``: every axis, or the keys of the one ``--axis`` (its label: the axis name
+    under the default prefix, or ``<prefix>/<axis>``)."""
+    from ..viz.errors import VizError
+
+    if not axes:
+        return all_keys()
+    if len(axes) > 1:
+        raise VizError(f"--live views one --axis or all (--axis {' --axis '.join(axes)}): drop all but one")
+    label = axes[0]
+    return f"{label}/**" if "/" in label else f"{AxisKeys(label).prefix}/{label}/**"
 
 
 def _hold(out: RerunOutput) -> None:

@@ -7,12 +7,13 @@ from pathlib import Path
 
 from ..acquisition.wire.keys import all_keys
 from .errors import SecurityError
-from .roles import ROLE_GRANTS, role_kind
+from .roles import ROLE_GRANTS, role_axes, role_kind
 
 
 def acl_config(prefix: str, roles: tuple[str, ...]) -> dict[str, object]:
     """The router's ``access_control`` section: default deny, one subject per role (its certificate's
-    common name), the role's kind's :data:`ROLE_GRANTS` as allow rules under ``prefix``."""
+    common name), the role's kind's :data:`ROLE_GRANTS` as allow rules under ``prefix`` (on the role's
+    axes only for a role limited to some: :meth:`Grant.key_exprs`)."""
     all_keys(prefix)
     rules: list[dict[str, object]] = []
     subjects: list[dict[str, object]] = []
@@ -28,7 +29,7 @@ def acl_config(prefix: str, roles: tuple[str, ...]) -> dict[str, object]:
                     "permission": "allow",
                     "flows": [grant.flow],
                     "messages": list(grant.messages),
-                    "key_exprs": [f"{prefix}/{suffix}" for suffix in grant.suffixes],
+                    "key_exprs": grant.key_exprs(prefix, role_axes(role)),
                 }
             )
         subjects.append({"id": role, "cert_common_names": [role]})
@@ -50,7 +51,8 @@ def acl_roles(acl: object, path: Path) -> tuple[str, tuple[str, ...]]:
         roles = tuple(str(subject["id"]) for subject in acl["subjects"])  # type: ignore[index]
         first = roles[0]
         key = acl["rules"][0]["key_exprs"][0]  # type: ignore[index]
-        prefix = key[: -len(ROLE_GRANTS[role_kind(first)][0].suffixes[0]) - 1]
+        tail = ROLE_GRANTS[role_kind(first)][0].key_exprs("", role_axes(first))[0]  # "/*/trajectory"
+        prefix = key.removesuffix(tail) if key.endswith(tail) else ""
         same = acl == acl_config(prefix, roles)
     except (KeyError, IndexError, TypeError, ValueError, SecurityError):
         same = False

@@ -9,6 +9,7 @@ import datetime as dt
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..acquisition.wire.keys import DEFAULT_PREFIX
 from .access_control import acl_config, acl_roles
 from .certificates import CLOCK_SKEW, DEFAULT_DAYS, check_days, issue_role, load_ca
 from .errors import SecurityError
@@ -29,6 +30,8 @@ class SecurityAdd:
     not_after: dt.datetime
     """end of validity of the added certificates (UTC; never after the CA's)"""
     files: list[WrittenFile] = field(default_factory=list)
+    prefix: str = DEFAULT_PREFIX
+    """the key prefix of the folder's access list"""
 
     def format(self) -> str:
         d = self.directory
@@ -39,7 +42,7 @@ class SecurityAdd:
         lines += file_lines(self.files)
         lines.append("next: restart the router (it reads its access-control list at start):")
         lines.append(f"  axisflow router --zenoh-config {d / 'router.json5'}")
-        lines += [how_to_run(d, role) for role in self.added]
+        lines += [how_to_run(d, role, self.prefix) for role in self.added]
         return "\n".join(lines)
 
 
@@ -93,4 +96,4 @@ def add_roles(
         check_loads_in_zenoh(f"{ROUTER}.json5", text)
         folder.write(f"{ROUTER}.json5", text.encode(), PUBLIC_MODE, f"zenoh config of {ROUTER} (rewritten)")
         folder.merge()
-    return SecurityAdd(d, tuple(roles), everyone, not_after, folder.files)
+    return SecurityAdd(d, tuple(roles), everyone, not_after, folder.files, prefix)

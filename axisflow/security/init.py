@@ -38,7 +38,7 @@ class SecurityInit:
         d = self.directory
         lines.append("next (each in its own terminal or service, the router first; see docs/security.md):")
         lines.append(f"  axisflow router --zenoh-config {d / 'router.json5'}")
-        lines += [how_to_run(d, role) for role in self.plan.roles]
+        lines += [how_to_run(d, role, self.plan.prefix) for role in self.plan.roles]
         return "\n".join(lines)
 
 

@@ -1,7 +1,8 @@
 """The Zenoh configuration files of a secure deployment, and reading them back.
 
 The router's file: router mode, TLS only, mutual TLS, the access-control list. A role's file: a
-client of the router over TLS with its own certificate, the router's name verified. Paths in them
+client of the router over TLS with its own certificate, the router's name verified, a lost router
+tried again every 0.1…1 s (:data:`~axisflow.acquisition.bus.options.RECONNECT_RETRY`). Paths in them
 are relative to their folder (:func:`axisflow.acquisition.bus.session.build_config` resolves them
 there), so a role's four files can be copied together to the host that runs it.
 
@@ -16,6 +17,7 @@ from pathlib import Path
 
 import json5
 
+from ..acquisition.bus.options import RECONNECT_RETRY
 from .access_control import acl_config
 from .errors import SecurityError
 from .roles import ROUTER, role_kind
@@ -51,7 +53,8 @@ def client_config(endpoint: str, role: str) -> dict[str, object]:
     role_kind(role)
     return {
         "mode": "client",
-        "connect": {"endpoints": [endpoint]},
+        # a lost router (restarted, or the link down) is tried again every 0.1…1 s
+        "connect": {"endpoints": [endpoint], "retry": dict(RECONNECT_RETRY)},
         "scouting": {"multicast": {"enabled": False}},
         "transport": {
             "link": {

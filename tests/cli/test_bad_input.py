@@ -29,11 +29,14 @@ from pathlib import Path
 import pytest
 from axisflow.acquisition import AxisSample
 from axisflow.acquisition.logs.mcap_writer import Ros2McapWriter
+from axisflow.acquisition.logs.synthetic_log import SyntheticLogSpec
 from axisflow.acquisition.wire.messages import JOINT_STATE_TYPE, MOVE_TYPE
 from axisflow.model import default_params
 
 from axisflow.cli import main
 from axisflow.security import SecurityPlan, init_security
+
+from ..acquisition.logs.cell_log import write_cell_log
 
 CLI = [sys.executable, "-c", "import sys; from axisflow.cli import main; sys.exit(main())"]
 LOOPBACK = ("--listen", "tcp/127.0.0.1:0")  # a session that reaches for nobody else's peers
@@ -542,6 +545,26 @@ CASES = [
         says=("1.5 of tau_max", "[0.1, 1.0]"),
     ),
     case(
+        "identify: a cell's recording without --axis",
+        "identify",
+        "cell.mcap",
+        "--out",
+        "ident",
+        says=("cell.mcap holds 3 axes (a0, a1, a2)", "choose one with --axis"),
+        untouched=("ident",),
+    ),
+    case(
+        "identify: an axis the recording does not hold",
+        "identify",
+        "cell.mcap",
+        "--axis",
+        "a7",
+        "--out",
+        "ident",
+        says=("--axis a7", "holds no such axis", "3 axes (a0, a1, a2)"),
+        untouched=("ident",),
+    ),
+    case(
         "identify: missing log",
         "identify",
         "missing.mcap",
@@ -737,6 +760,34 @@ CASES = [
         untouched=("t2",),
     ),
     case(
+        "table2: a cell's recording without --axis",
+        "table2",
+        "cell.mcap",
+        "--out",
+        "t2",
+        says=("cell.mcap holds 3 axes (a0, a1, a2)", "choose one with --axis"),
+        untouched=("t2",),
+    ),
+    case(
+        "view: an axis the recording does not hold",
+        "view",
+        "cell.mcap",
+        "--axis",
+        "b1",
+        says=("--axis b1", "not in cell.mcap", "it holds a0, a1, a2"),
+        untouched=("cell.rrd",),
+    ),
+    case(
+        "view: --live with two axes",
+        "view",
+        "--live",
+        "--axis",
+        "a0",
+        "--axis",
+        "a1",
+        says=("--live views one --axis or all", "--axis a0 --axis a1"),
+    ),
+    case(
         "table2: not MCAP",
         "table2",
         "notes.txt",
@@ -886,6 +937,24 @@ CASES = [
         "--speed",
         "-1",
         says=("--speed -1.0", ">= 0"),
+        untouched=("dm",),
+    ),
+    case(
+        "cell: a launch file with an unknown key",
+        "cell",
+        "up",
+        "bad-cell.toml",
+        says=("bad-cell.toml", "unknown key(s) routers", "allowed: router, listen"),
+        untouched=("logs",),
+    ),
+    case(
+        "demo: a cell of more axes than processes fit",
+        "demo",
+        "--out",
+        "dm",
+        "--axes",
+        "99",
+        says=("--axes 99", "1…32"),
         untouched=("dm",),
     ),
     case(
@@ -1227,6 +1296,12 @@ def inputs(tmp_path_factory, damage) -> Path:
     (d / "full").mkdir()
     (d / "full" / "keep.txt").write_text("a session\n")
     _recording(d / "still.mcap")
+    (d / "bad-cell.toml").write_text(
+        'router = "tcp/127.0.0.1:7447"\nrouters = 2\n[machine.a]\nrouter = true\n'
+    )
+    write_cell_log(
+        d / "cell.mcap", [SyntheticLogSpec(duration_s=0.2, axis=f"a{k}", seed=k) for k in range(3)]
+    )
     _recording(d / "existing.mcap")
     _recording(d / "wrong-schema.mcap", schema=MOVE_TYPE)
     _recording(d / "nan-samples.mcap", nan=True)

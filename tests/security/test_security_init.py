@@ -10,7 +10,7 @@ import stat
 
 import pytest
 import zenoh
-from axisflow.acquisition.bus.session import ZenohOptions, build_config
+from axisflow.acquisition.bus.session import RECONNECT_RETRY, ZenohOptions, build_config
 from axisflow.acquisition.wire.keys import KeyExprError
 from cryptography import x509
 from cryptography.hazmat.primitives import serialization
@@ -98,6 +98,7 @@ def test_the_zenoh_files_load_and_say_mtls_tls_only_and_default_deny(tmp_path):
         config = build_config(ZenohOptions(config_file=out / f"{role}.json5"))
         assert get(config, "mode") == "client"
         assert get(config, "connect/endpoints") == ["tls/127.0.0.1:17998"]
+        assert get(config, "connect/retry") == dict(RECONNECT_RETRY)
         assert get(config, "transport/link/tls/connect_certificate") == str(out / f"{role}.pem")
         assert get(config, "transport/link/tls/enable_mtls") is True
 

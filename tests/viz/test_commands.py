@@ -3,6 +3,7 @@ code 2 and nothing half-written."""
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import shutil
@@ -199,3 +200,21 @@ def test_a_view_of_a_log_with_a_damaged_chunk_says_what_it_skipped_and_goes_on(
         - read_joint_states(log, "/axisflow/a0/state", on_skip=lambda _s: None).holes[0].messages
     )
     assert len(rrd_reader(tmp_path / "v.rrd")["/axes/a0/position/measured"].stamp_ns) == kept < 3000
+
+
+def test_view_of_a_cell_recording_shows_every_axis_or_the_ones_asked_for(tmp_path, capsys, rrd_reader):
+    from axisflow.acquisition.logs.synthetic_log import SyntheticLogSpec
+
+    from ..acquisition.logs.cell_log import write_cell_log
+
+    log = write_cell_log(
+        tmp_path / "cell.mcap", [SyntheticLogSpec(duration_s=0.3, axis=f"a{k}", seed=k) for k in range(3)]
+    )
+    assert main(["view", str(log), "-o", str(tmp_path / "all.rrd"), "--json"]) == 0
+    assert [a["label"] for a in json.loads(capsys.readouterr().out)["axes"]] == ["a0", "a1", "a2"]
+    args = ["view", str(log), "--axis", "a2", "--axis", "a0", "-o", str(tmp_path / "two.rrd"), "--json"]
+    assert main(args) == 0
+    assert [a["label"] for a in json.loads(capsys.readouterr().out)["axes"]] == ["a0", "a2"]
+    entities = rrd_reader(tmp_path / "two.rrd")
+    assert len(entities["/axes/a2/position/measured"].stamp_ns) == 300
+    assert not any(path.startswith("/axes/a1/") for path in entities)

@@ -3,7 +3,11 @@
 import json
 
 import pytest
-from axisflow.acquisition import ZenohConfigError, ZenohOptions, build_config
+import zenoh
+from axisflow.acquisition import ZenohConfigError, ZenohOptions, build_config, open_session
+from axisflow.acquisition.bus.session import RECONNECT_RETRY
+
+from axisflow.processes import wait_until
 
 
 def _get(config, key):
@@ -51,3 +55,38 @@ def test_bad_config_file_rejected(tmp_path):
     f.write_text("{ mode: ")
     with pytest.raises(ZenohConfigError, match="is invalid"):
         build_config(ZenohOptions(config_file=f))
+
+
+def test_a_session_that_connects_retries_a_lost_link_quickly():
+    c = build_config(ZenohOptions(mode="client", connect=("tcp/10.0.0.2:7447",)))
+    assert _get(c, "connect/retry") == dict(RECONNECT_RETRY)
+    assert RECONNECT_RETRY["period_max_ms"] <= 1000  # back within about a second of its router
+    # the embedded default and a listener have nothing to retry
+    assert _get(build_config(ZenohOptions()), "connect/retry") is None
+    assert _get(build_config(ZenohOptions.loopback(listen_port=17998)), "connect/retry") is None
+
+
+def test_a_client_reconnects_to_a_router_restarted_on_its_port(port):
+    """A real router session closed and opened again on the same port: the client built from the
+    command-line options finds it again by itself (its subscriber hears a put made after the
+    restart) without being reopened."""
+    router_options = ZenohOptions(mode="router", listen=(f"tcp/127.0.0.1:{port}",))
+    client_options = ZenohOptions(mode="client", connect=(f"tcp/127.0.0.1:{port}",))
+    router = open_session(router_options)
+    try:
+        with open_session(client_options) as client, open_session(client_options) as other:
+            heard = client.declare_subscriber("test/reconnect", zenoh.handlers.FifoChannel(16))
+            router.close()
+            assert wait_until(lambda: not list(client.info.routers_zid()), 10.0)
+            router = open_session(router_options)
+            assert wait_until(lambda: list(client.info.routers_zid()), 10.0)
+            assert wait_until(lambda: list(other.info.routers_zid()), 10.0)
+
+            def delivered() -> bool:
+                other.put("test/reconnect", b"after")
+                return heard.try_recv() is not None
+
+            assert wait_until(delivered, 10.0), "the subscriber was not declared again to the new router"
+            heard.undeclare()
+    finally:
+        router.close()
