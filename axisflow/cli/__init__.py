@@ -40,6 +40,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "identify_cmd",
     "planner_cmd",
     "stop_cmd",
+    "ros2_cmd",
     "table2_cmd",
     "replay_cmd",
     "recover_cmd",
