@@ -9,8 +9,10 @@ stamp that decimation needs. ``axisflow bench ros2`` measures the three ways (ra
 check, rclpy's ``deserialize_message``, a message built from the decoded sample); the raw bytes are
 the cheapest.
 
-The relay runs on Zenoh's callback thread (a DDS publish neither blocks on a keep-last history nor
-calls back into Zenoh), one publish per kept sample. It joins the key as a
+Zenoh queues the samples in a FIFO channel (on its own thread, without Python's lock) and the relay's
+thread takes them from there, one DDS publish per kept sample: a moment in which the relay cannot
+run (the interpreter busy elsewhere, the process descheduled) fills the channel instead of holding
+up Zenoh's reception, which would make the bridge drop samples. It joins the key as a
 :class:`~axisflow.acquisition.bus.readiness.JoinedSubscriber`, so once it is entered no sample of a
 running bridge is missed on the way; it counts the samples the attachments' sequence numbers say
 were lost between the bridge and this node.
@@ -36,6 +38,8 @@ from ..acquisition.wire.messages import AxisSample
 from ..acquisition.wire.sequence import SequenceTracker
 
 NS_PER_S = 1_000_000_000
+RELAY_BACKLOG = 10_000
+"""samples the channel holds for a relay that cannot run (10 s at 1 kHz) before Zenoh waits"""
 
 
 class Decimator:
@@ -70,7 +74,9 @@ class JointStateRelay:
         self.keys = keys
         self._publisher = publisher
         self._decimator = Decimator(rate_hz)
-        self._join = JoinedSubscriber(session, keys.state, lambda: self._on_sample, stop=stop)
+        channel = lambda: zenoh.handlers.FifoChannel(RELAY_BACKLOG)  # noqa: E731
+        self._join = JoinedSubscriber(session, keys.state, channel, stop=stop)
+        self._thread = threading.Thread(target=self._run, name=f"relay {keys.state}", daemon=True)
         self._sequences = SequenceTracker()
         self.received = 0
         """samples that arrived from Zenoh"""
@@ -89,6 +95,17 @@ class JointStateRelay:
     def lost(self) -> int:
         """Samples the bridge sent that never arrived (gaps in its sequence numbers)."""
         return self._sequences.missed
+
+    def _run(self) -> None:
+        subscriber = self._join.subscriber
+        if subscriber is None:  # stopped while joining
+            return
+        channel = subscriber.handler  # not the subscriber: its undeclaration must not wait for us
+        try:
+            while True:
+                self._on_sample(channel.recv())
+        except zenoh.ZError:  # undeclared: the channel is empty and closed
+            return
 
     def _on_sample(self, sample: zenoh.Sample) -> None:
         data = sample.payload.to_bytes()
@@ -127,7 +144,9 @@ class JointStateRelay:
 
     def __enter__(self) -> JointStateRelay:
         self._join.__enter__()
+        self._thread.start()
         return self
 
     def __exit__(self, *_exc: object) -> None:
         self._join.__exit__()
+        self._thread.join()
