@@ -3,8 +3,8 @@
 Threads: rclpy's executor runs on the caller's thread (:meth:`AxisNode.spin`): the trajectory
 subscription, the two services and two timers — one polls the bridge's statuses every
 :data:`POLL_PERIOD_S` (diagnostics, the trajectories' progress), one publishes the diagnostics every
-``diagnostics_period_s``. The samples go from Zenoh's callback thread straight to the JointState
-publisher (:mod:`.joint_state_relay`). A service call waits for the bridge's answer on the executor's
+``diagnostics_period_s``. The samples go from Zenoh to the JointState publisher on the relay's own
+thread (:mod:`.joint_state_relay`). A service call waits for the bridge's answer on the executor's
 thread, polling the statuses itself.
 
 :func:`run_node` owns the rclpy context (made and shut down here: nothing global; rclpy installs no
