@@ -20,6 +20,7 @@ BENCHMARKS: dict[str, str] = {
     "plant": "plant",
     "drives": "drives",
     "joins": "joins",
+    "ros2": "ros2",
 }
 
 
