@@ -150,7 +150,10 @@ class AxisCommands:
             self._end(status.move_id)
             if sent.done:
                 sent.finished_ns = status.stamp_of(status.end_tick)
-                return Level.OK, f"trajectory {sent.number} done: at {where}"
+                line = f"trajectory {sent.number} done: at {where}"
+                if sent.started_ns is not None:
+                    line += f", {(sent.finished_ns - sent.started_ns) * 1e-9:.3f} s after its start"
+                return Level.OK, line
             return Level.OK, f"trajectory {sent.number}: at {where}"
         return Level.OK, f"trajectory {sent.number}: {status.text}"  # accepted
 

@@ -35,7 +35,7 @@ from ..acquisition.bus.move_sender import MoveSender
 from ..acquisition.wire.move_status import MoveState, MoveStatus
 from ..model import AxisflowError
 from .axis_commands import AxisCommands
-from .axis_health import DRIVE_EVENT_LEVELS, AxisHealth, Level
+from .axis_health import DRIVE_EVENT_LEVELS, MOVE_LEVELS, AxisHealth, Level
 from .event_watch import EventWatch
 from .joint_state_relay import JointStateRelay
 from .qos import DIAGNOSTICS_QOS, JOINT_STATES_QOS, TRAJECTORY_QOS
@@ -128,10 +128,12 @@ class AxisNode:
     def spin(self, executor: Any) -> None:
         """Run the node's callbacks until the stop event is set."""
         executor.add_node(self.node)
-        self._publish_diagnostics()
-        while not self._stop.is_set():
-            executor.spin_once(timeout_sec=SPIN_TIMEOUT_S)
-        executor.remove_node(self.node)
+        try:
+            self._publish_diagnostics()
+            while not self._stop.is_set():
+                executor.spin_once(timeout_sec=SPIN_TIMEOUT_S)
+        finally:
+            executor.remove_node(self.node)
 
     def report(self) -> NodeReport:
         trajectories = self.commands.trajectories
@@ -169,10 +171,10 @@ class AxisNode:
         return statuses
 
     def _log_status(self, status: MoveStatus) -> None:
-        level = DRIVE_EVENT_LEVELS.get(status.state)
+        level = DRIVE_EVENT_LEVELS.get(status.state, MOVE_LEVELS.get(status.state))
         if level is Level.ERROR:
             self.log.error(status.text)
-        elif level is Level.WARN or status.text.startswith("rejected"):
+        elif level is Level.WARN:
             self.log.warning(status.text)
 
     def _publish_diagnostics(self) -> None:

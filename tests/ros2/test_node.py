@@ -121,6 +121,8 @@ class RosPeer:
         self.node = rclpy.create_node("axisflow_test_peer", context=self.context)
         self.executor = SingleThreadedExecutor(context=self.context)
         self.executor.add_node(self.node)
+        self.first_raw: bytes | None = None
+        """the first JointState any of :meth:`joint_states`' subscriptions received, serialized"""
 
     def spin_until(self, predicate, timeout_s: float, what: str) -> None:
         import time
@@ -131,7 +133,7 @@ class RosPeer:
                 pytest.fail(f"{what} did not happen within {timeout_s:g} s")
             self.executor.spin_once(timeout_sec=0.01)
 
-    def joint_states(self, axis: str = "a0") -> list[Sample]:
+    def joint_states(self, axis: str = "a0", best_effort: bool = False) -> list[Sample]:
         """Every JointState on the axis's topic from now on: a reliable subscriber (as ``ros2 topic
         echo``) that takes the serialized messages and reads them with axisflow's codec, which is
         cheaper than rclpy's conversion: a Python subscriber on a loaded machine must keep up with
@@ -144,13 +146,14 @@ class RosPeer:
         got: list[Sample] = []
 
         def on_message(data: bytes) -> None:
-            if not got:
+            if self.first_raw is None:
                 self.first_raw = data
             js = Contract.decode(data)
             s = AxisSample.from_joint_state(js)
             got.append(Sample(s.stamp_ns, s.axis, js.name, s.position_m, s.velocity_m_s))
 
-        qos = QoSProfile(depth=10_000, reliability=ReliabilityPolicy.RELIABLE)
+        reliability = ReliabilityPolicy.BEST_EFFORT if best_effort else ReliabilityPolicy.RELIABLE
+        qos = QoSProfile(depth=10_000, reliability=reliability)
         self.node.create_subscription(JointState, f"/axisflow/{axis}/joint_states", on_message, qos, raw=True)
         return got
 
@@ -233,8 +236,10 @@ def test_inside_every_sample_reaches_a_subscriber_and_diagnostics_follow_the_bri
     assert private_network.interfaces() == ["lo"]  # discovery has nowhere else to go
     bridge, node = start_axis(cli, port)
     states, diagnostics = ros.joint_states(), ros.diagnostics()
+    sensor_data = ros.joint_states(best_effort=True)  # as qos_profile_sensor_data asks: it matches too
     ros.spin_until(lambda: len(states) >= 3000, 60, "3000 JointState messages")
     received = list(states)
+    assert len(sensor_data) > 1000, "a best-effort subscriber did not match the node's reliable publisher"
     ros.spin_until(lambda: latest(diagnostics, "drive") is not None, 10, "the drive's diagnostics")
     drive = latest(diagnostics, "drive")
     cli.launcher.stop(bridge)
@@ -323,7 +328,10 @@ def test_inside_trajectories_arrive_when_asked_are_refused_when_too_fast_and_sto
     leave = next(s.stamp_ns for s in states if s.position_m > 1e-6)
     arrive = next(s.stamp_ns for s in states if s.stamp_ns > leave + NS and abs(s.position_m - rest) < 1e-6)
     assert 2.45 <= (arrive - leave) / NS <= 2.55
-    assert latest(diagnostics, "motion").message == "trajectory 1 done: at point 1 (0.15 m)"
+    assert (
+        latest(diagnostics, "motion").message
+        == "trajectory 1 done: at point 1 (0.15 m), 2.500 s after its start"
+    )
 
     publisher.publish(trajectory((0.75, 0.1)))  # 0.6 m in 0.1 s: faster than any poly5 move
     ros.spin_until(lambda: latest(diagnostics, "motion").level == 1, 10, "the refusal on /diagnostics")
