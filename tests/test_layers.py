@@ -21,6 +21,7 @@ FOLDERS = {
     "axisflow/cli": "cli",
     "axisflow/security": "top",
     "axisflow/faults": "top",
+    "axisflow/ros2": "top",
     "axisflow": "top",
 }
 # what each layer may import (besides itself); the README's layout table says the same

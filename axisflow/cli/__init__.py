@@ -41,6 +41,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "planner_cmd",
     "adapt_cmd",
     "stop_cmd",
+    "ros2_cmd",
     "table2_cmd",
     "replay_cmd",
     "recover_cmd",

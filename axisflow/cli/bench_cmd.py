@@ -25,6 +25,7 @@ BENCHMARKS: dict[str, str] = {
     "startup": "startup",
     "all": "all",
     "cell": "cell",
+    "ros2": "ros2",
 }
 
 

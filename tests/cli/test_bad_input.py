@@ -749,6 +749,11 @@ CASES = [
         says=("p.txt must end in .toml",),
         untouched=("p.txt",),
     ),
+    # the ROS 2 node: refused before any ROS 2 call (no DDS discovery starts)
+    case("ros2: rate 0", "ros2", "--rate", "0", says=("rate = 0.0 Hz", "(0, 1000] Hz")),
+    case("ros2: rate above the drive's", "ros2", "--rate", "5000", says=("rate = 5000.0 Hz", "(0, 1000] Hz")),
+    case("ros2: axis not a ROS 2 name", "ros2", "--axis", "a-0", says=("axis name 'a-0'", "ROS 2 name")),
+    case("ros2: omega > 1", "ros2", "--omega", "2", says=("omega = 2.0", "outside [0, 1]")),
     # Table 2 from a recording, replay, recover
     case(
         "table2: no plan records",
