@@ -38,7 +38,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from axisflow.acquisition.drives.drive import Setpoint
-from axisflow.acquisition.drives.sim_axis import PlantConfig, SimulatedAxis, load_plant
+from axisflow.acquisition.drives.plant import PlantConfig, load_plant
+from axisflow.acquisition.drives.sim_axis import SimulatedAxis
 from axisflow.benchmarks.pipeline import free_port
 from axisflow.model import AxisParams, Move, cart_force, default_params, polynomial_law
 

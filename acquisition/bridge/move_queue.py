@@ -74,8 +74,8 @@ MAX_QUEUED_MOVES = 1024
 """moves a drive holds at once (running included); more are rejected until some have run"""
 MAX_QUEUED_KNOTS = 2 * MAX_KNOTS
 """knots of sampled moves a drive holds at once (running included): two hours of a 1 kHz path. A
-queued knot costs 80 B (the message's four float64 arrays, 32 B, and the validated trajectory, 48 B;
-tracemalloc of one queued one-hour path, 2026-11-23), so a full budget costs ~0.58 GB; a sampled move
+queued knot costs 80 B (the message's four float64 arrays, 32 B, and the validated trajectory, 48 B,
+as tracemalloc of one queued one-hour path shows), so a full budget costs ~0.58 GB; a sampled move
 that would pass it is rejected until some have run"""
 QUICK_STOP_FORCE = 0.9
 """the fraction of the force limit a quick stop brakes with (the rest is the drive's margin: the true

@@ -65,31 +65,12 @@ from .drive import READY, AlwaysReady, DriveStatus, Setpoint
 from .friction_drift import FrictionDrift
 from .mechanics import BeltAxis, RigidAxis
 from .plant import (
-    DEFAULT_PLANT_RESOURCE,
-    ControllerConfig,
     CurrentLoopConfig,
-    EncoderConfig,
     PlantConfig,
     SampleClockConfig,
-    SimulationConfig,
-    TorqueSensorConfig,
-    load_plant,
-    plant_from_mapping,
 )
 
-__all__ = [
-    "DEFAULT_PLANT_RESOURCE",
-    "STATE_SPEED_MARGIN",
-    "ControllerConfig",
-    "EncoderConfig",
-    "PlantConfig",
-    "SimulatedAxis",
-    "SimulationConfig",
-    "TorqueSensorConfig",
-    "load_plant",
-    "plant_from_mapping",
-]
-# (the plant-file names are re-exported: they lived here before the plant file had its own module)
+__all__ = ["STATE_SPEED_MARGIN", "SimulatedAxis"]
 
 STATE_SPEED_MARGIN = 0.1
 """a saved plant state may exceed v_max by this fraction (tracking overshoot), no more"""

@@ -49,7 +49,7 @@ from ...model import (
     move_ticks,
 )
 from ...model.files import atomic_path
-from ..drives.sim_axis import EncoderConfig, TorqueSensorConfig
+from ..drives.plant import EncoderConfig, TorqueSensorConfig
 from ..errors import RecordingError
 from ..wire.keys import DEFAULT_AXIS, AxisKeys, topic_for_key
 from ..wire.messages import AXIS_JOINTS, JOINT_STATE_TYPE, SCHEMAS, JointState

@@ -93,7 +93,7 @@ def fault_plan(fault_at: str | None, silent_at: str | None) -> FaultPlan:
 def run(args: argparse.Namespace) -> int:
     from ..acquisition.drives.canopen.config import load_drive_config
     from ..acquisition.drives.canopen.sim_drive import SimulatedDrive
-    from ..acquisition.drives.sim_axis import load_plant
+    from ..acquisition.drives.plant import load_plant
 
     params = params_from_args(args)
     config = load_drive_config(args.drive_config)

@@ -13,7 +13,7 @@ from axisflow.acquisition import AxisKeys, BridgeConfig, MoveCommand, MoveSender
 from axisflow.acquisition.bridge.bridge import run_bridge
 from axisflow.acquisition.bus.readiness import JoinedSubscriber
 from axisflow.acquisition.bus.session import open_session
-from axisflow.acquisition.drives.sim_axis import load_plant
+from axisflow.acquisition.drives.plant import load_plant
 from axisflow.acquisition.wire.move_status import MoveStatus
 from axisflow.model import load_params
 

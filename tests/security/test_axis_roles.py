@@ -14,7 +14,7 @@ import zenoh
 from axisflow.acquisition import AxisKeys, BridgeConfig, MoveSender, MoveState, SimulatedAxis
 from axisflow.acquisition.bridge.bridge import run_bridge
 from axisflow.acquisition.bus.session import ZenohOptions, open_session
-from axisflow.acquisition.drives.sim_axis import load_plant
+from axisflow.acquisition.drives.plant import load_plant
 from axisflow.acquisition.wire.move_status import MoveStatus
 from axisflow.model import load_params
 

@@ -45,7 +45,8 @@ from canopen.sdo import SdoAbortedError
 from ....model import AxisParams, cart_force, cart_force_from_torque
 from ....model.drive_units import DriveUnits
 from ..drive import Setpoint
-from ..sim_axis import PlantConfig, SimulatedAxis
+from ..plant import PlantConfig
+from ..sim_axis import SimulatedAxis
 from .cia402 import (
     STATE_BITS,
     SW_FOLLOWING_ERROR,

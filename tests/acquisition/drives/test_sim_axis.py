@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 from axisflow.acquisition import MoveCommand, MoveQueue, PlantError, Setpoint, SimulatedAxis, load_plant
-from axisflow.acquisition.drives.sim_axis import plant_from_mapping
+from axisflow.acquisition.drives.plant import plant_from_mapping
 from axisflow.model import AxisParams, default_params, params_to_toml
 
 # a fixed axis (the paper's geometry), so the tests do not depend on the packaged defaults

@@ -15,7 +15,7 @@ from axisflow.acquisition.drives.canopen.config import DriveConfig, config_from_
 from axisflow.acquisition.drives.canopen.master import CanopenMaster, open_master
 from axisflow.acquisition.drives.canopen.sim_drive import FaultPlan, SimulatedDrive
 from axisflow.acquisition.drives.drive import DriveEvent, Setpoint
-from axisflow.acquisition.drives.sim_axis import load_plant
+from axisflow.acquisition.drives.plant import load_plant
 from axisflow.model import default_params
 
 PARAMS = default_params()
