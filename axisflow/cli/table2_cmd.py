@@ -41,7 +41,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--per-move",
         action="store_true",
-        help="also write DIR/moves.csv and DIR/moves.json: each move's E_th, E_exp, E% and the parameter "
+        help="also write DIR/moves.csv and DIR/moves.json: each move's E_th, E_exp, E%% and the parameter "
         "version its plan used, in the order the moves ran",
     )
     p.set_defaults(func=run)

@@ -169,6 +169,8 @@ def test_every_command_has_help_with_a_description_and_every_option_explained(ca
         assert exc.value.code == 0, words
         out = capsys.readouterr().out
         assert out.startswith(f"usage: axisflow {' '.join(words)}"), words
+        # a bare % in a help text is a format directive: "E% and" printed argparse's internals
+        assert "option_strings" not in out, words
         assert parser.description, f"axisflow {' '.join(words)} has no description"
         unexplained = [
             a.option_strings or a.dest
