@@ -23,6 +23,7 @@ SIGTERM into an event the command's loop checks.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import select
@@ -49,6 +50,11 @@ ORPHAN_GRACE_S = 10.0
 STOP_TIMEOUT_S = 30.0
 """how long :meth:`Launcher.stop` waits for a child to finish after SIGINT before killing it [s]"""
 _READY_BYTE = b"R"
+_SIGNALLED = b"S"
+"""what :func:`stop_on_signals`'s handler writes to its relay"""
+_RELAY_END = b"E"
+"""what ends :func:`stop_on_signals`'s relay thread"""
+_RELAY_JOIN_S = 1.0
 
 
 class LaunchError(AxisflowError):
@@ -84,17 +90,29 @@ def stop_on_signals() -> Iterator[threading.Event]:
     """Within the block, SIGINT and SIGTERM set the yielded event instead of raising/killing.
 
     Only in the main thread (elsewhere the handlers are left alone); the previous handlers are
-    restored on exit.
+    restored on exit. The handler takes no lock: it writes a byte to a pipe, and a relay thread sets
+    the event. (Python runs a handler in the main thread between two bytecodes, which may be inside
+    that thread's own ``stop.wait()`` while it holds the event's lock: a handler that called
+    ``stop.set()`` there would wait for that lock forever, and so would every later signal.)
     """
     stop = threading.Event()
     if threading.current_thread() is not threading.main_thread():
         yield stop
         return
-    previous = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
+    read_fd, write_fd = os.pipe()
+    os.set_blocking(write_fd, False)
+
+    def relay() -> None:
+        while os.read(read_fd, 1) == _SIGNALLED:
+            stop.set()
 
     def handler(_signum: int, _frame: object) -> None:
-        stop.set()
+        with contextlib.suppress(BlockingIOError):  # a full pipe: the relay has bytes enough
+            os.write(write_fd, _SIGNALLED)
 
+    thread = threading.Thread(target=relay, name="signal-relay", daemon=True)
+    thread.start()
+    previous = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
     for s in previous:
         signal.signal(s, handler)
     try:
@@ -102,6 +120,11 @@ def stop_on_signals() -> Iterator[threading.Event]:
     finally:
         for s, h in previous.items():
             signal.signal(s, h)
+        os.set_blocking(write_fd, True)
+        os.write(write_fd, _RELAY_END)
+        thread.join(_RELAY_JOIN_S)
+        os.close(write_fd)
+        os.close(read_fd)
 
 
 def _take_fd(name: str) -> int | None:

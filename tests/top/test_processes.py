@@ -4,6 +4,8 @@ bridge and recorder)."""
 
 import os
 import signal
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -84,3 +86,26 @@ def test_the_demos_children_end_when_the_demo_is_sigkilled(cli, tmp_path):
         pid: _command_line(pid) for pid in children if not _gone(pid)
     }
     assert wait_until(lambda: is_complete(recording), 5.0)  # the recorder stopped cleanly
+
+
+_SIGNAL_INSIDE_WAIT = """
+import os, signal, sys
+from axisflow.processes import stop_on_signals
+
+with stop_on_signals() as stop:
+    # the signal lands while the main thread holds the event's lock, as it does inside stop.wait()
+    with stop._cond:
+        os.kill(os.getpid(), signal.SIGINT)
+        for _ in range(1000):  # bytecodes: Python runs the handler here, the lock still held
+            pass
+    print("set" if stop.wait(5.0) else "not set", flush=True)
+sys.exit(0)
+"""
+
+
+def test_a_stop_signal_that_lands_inside_the_events_own_wait_still_stops():
+    # a handler that set the event itself would wait for the lock its own thread holds: a hang
+    done = subprocess.run(
+        [sys.executable, "-c", _SIGNAL_INSIDE_WAIT], capture_output=True, text=True, timeout=30
+    )
+    assert (done.returncode, done.stdout.strip(), done.stderr) == (0, "set", "")
