@@ -39,6 +39,8 @@ fields. A larger one is rejected before it is copied out of Zenoh's buffer (that
 interpreter lock, ~0.45 ms per MB, stalling the 1 kHz loop)"""
 _IDLE_S = 0.002
 """the worker's sleep when no move is waiting (the latency it adds to a move's acceptance)"""
+_STOP_TIMEOUT_S = 5.0
+"""how long closing the intake waits for its thread (it undeclares its subscriber) [s]"""
 _START_TIMEOUT_S = 10.0
 
 
@@ -85,7 +87,11 @@ class MoveIntake:
 
     def __exit__(self, *_exc: object) -> None:
         self._stop.set()
-        self._thread.join()
+        self._thread.join(_STOP_TIMEOUT_S)
+        if self._thread.is_alive():  # its subscriber's undeclaration hangs: the daemon thread is left
+            log.warning(
+                "the move intake of %s did not stop within %.0f s; left behind", self._key, _STOP_TIMEOUT_S
+            )
 
     def _work(self) -> None:
         try:
