@@ -81,7 +81,11 @@ def _demo(tmp: Path) -> dict[str, Any]:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..model.files import check_output_files, ensure_dir, write_atomic_files
+
     short = args.short
+    if args.out:  # before minutes of benchmarks, not after
+        check_output_files(args.out, ("performance.md", "performance.json"), overwrite=True)
     say = (lambda _t: None) if args.json else (lambda t: print(f"  … {t}", file=sys.stderr, flush=True))
     results: dict[str, Any] = {
         "machine": _machine(),
@@ -110,10 +114,8 @@ def run(args: argparse.Namespace) -> int:
     results["rows"] = rows(results)
     markdown = table(results)
     if args.out:
-        out = Path(args.out)
-        out.mkdir(parents=True, exist_ok=True)
-        (out / "performance.md").write_text(markdown + "\n")
-        (out / "performance.json").write_text(json.dumps(results, indent=1) + "\n")
+        files = {"performance.md": markdown + "\n", "performance.json": json.dumps(results, indent=1) + "\n"}
+        write_atomic_files(ensure_dir(args.out), files)
     if args.json:
         print(json.dumps(results, indent=1))
     else:

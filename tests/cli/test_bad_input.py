@@ -196,6 +196,15 @@ CASES = [
         untouched=("/proc/x",),
     ),
     case(
+        "bench all: --out under /proc, refused before the benchmarks run",
+        "bench",
+        "all",
+        "--out",
+        "/proc/x",
+        says=("output directory /proc/x cannot be created", "/proc is not writable"),
+        untouched=("/proc/x",),
+    ),
+    case(
         "experiment: --out is a file",
         "experiment",
         "--out",
