@@ -24,6 +24,7 @@ One concept per module:
 * :mod:`.roles` — the roles, their kinds and what each kind may do (:data:`ROLE_GRANTS`);
 * :mod:`.access_control` — the router's ACL built from the grants, and read back;
 * :mod:`.certificates` — the CA, the router's and the roles' certificates and keys;
+* :mod:`.validity` — how long a certificate is valid (the default and the bound, in days);
 * :mod:`.zenoh_files` — the Zenoh JSON5 files of the router and of a role, written and read;
 * :mod:`.folder` — the folder writer: everything or nothing, exact file modes;
 * :mod:`.plan` — the validated settings of ``security init``;
@@ -42,19 +43,19 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:  # what a type checker sees; at run time __getattr__ loads each name from _HOMES
     from .access_control import acl_config  # noqa: F401
     from .add import SecurityAdd, add_roles  # noqa: F401
-    from .certificates import DEFAULT_DAYS, MAX_DAYS  # noqa: F401
     from .errors import SecurityArgumentError, SecurityError  # noqa: F401
     from .init import SecurityInit, init_security  # noqa: F401
     from .plan import DEFAULT_HOST, DEFAULT_PORT, SecurityPlan  # noqa: F401
     from .roles import DEFAULT_ROLES, ROLE_GRANTS, ROUTER, Grant, parse_roles, role_kind  # noqa: F401
+    from .validity import DEFAULT_DAYS, MAX_DAYS  # noqa: F401
 
 # each public name → its module, relative to this package
 _HOMES: dict[str, str] = {
     "acl_config": "access_control",
     "SecurityAdd": "add",
     "add_roles": "add",
-    "DEFAULT_DAYS": "certificates",
-    "MAX_DAYS": "certificates",
+    "DEFAULT_DAYS": "validity",
+    "MAX_DAYS": "validity",
     "SecurityArgumentError": "errors",
     "SecurityError": "errors",
     "SecurityInit": "init",
