@@ -14,8 +14,8 @@ if TYPE_CHECKING:  # what a type checker sees; at run time __getattr__ loads eac
     from .certificates import Certificate, MinTimeCertificate, TimeEnergyCertificate  # noqa: F401
     from .errors import InfeasibleMoveError  # noqa: F401
     from .exact import Active, ExactBackend, ExactSolution, solve_exact  # noqa: F401
-    from .problem import DEFAULT_OMEGA, DEFAULT_TIME_BOUNDS_S, Case, MoveProblem  # noqa: F401
-    from .reference_laws import REFERENCE_LAWS, ReferenceProfile, least_energy, time_optimal  # noqa: F401
+    from .problem import DEFAULT_OMEGA, DEFAULT_TIME_BOUNDS_S, REFERENCE_LAWS, Case, MoveProblem  # noqa: F401
+    from .reference_laws import ReferenceProfile, least_energy, time_optimal  # noqa: F401
     from .result import PlanResult, SolveStatus  # noqa: F401
 
 # each public name → its module, relative to this package
@@ -35,7 +35,7 @@ _HOMES: dict[str, str] = {
     "DEFAULT_TIME_BOUNDS_S": "problem",
     "Case": "problem",
     "MoveProblem": "problem",
-    "REFERENCE_LAWS": "reference_laws",
+    "REFERENCE_LAWS": "problem",
     "ReferenceProfile": "reference_laws",
     "least_energy": "reference_laws",
     "time_optimal": "reference_laws",
