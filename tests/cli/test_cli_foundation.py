@@ -133,7 +133,7 @@ def test_experiment_into_a_file_path_fails_cleanly_and_writes_nothing(tmp_path, 
     def not_before_the_output_is_checked(*_args, **_kwargs):
         raise AssertionError("the experiment ran before its --out was checked")
 
-    monkeypatch.setattr("axisflow.cli.experiment_cmd.run_offline", not_before_the_output_is_checked)
+    monkeypatch.setattr("axisflow.experiment.run_offline", not_before_the_output_is_checked)
     target = tmp_path / "file"
     target.write_text("keep me")
     assert main(["experiment", "--out", str(target), "--waypoints", "3"]) == 2
