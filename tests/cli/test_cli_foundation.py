@@ -148,11 +148,14 @@ def _commands(parser=None, prefix=()):
     import argparse
 
     from axisflow.cli import build_parser
+    from axisflow.cli.bench_cmd import BENCHMARKS, add_benchmark
 
     parser = parser or build_parser()
     for action in parser._actions:
         if isinstance(action, argparse._SubParsersAction):
             for name, sub in action.choices.items():
+                if prefix == ("bench",):  # a benchmark's options load when it is named on the command line
+                    add_benchmark(sub, BENCHMARKS[name])
                 yield (*prefix, name), sub
                 yield from _commands(sub, (*prefix, name))
 

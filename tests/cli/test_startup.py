@@ -127,3 +127,38 @@ def test_the_help_probe_sees_what_a_command_loads_when_it_runs(tmp_path):
     assert out.returncode == 0, out.stderr
     assert list(tmp_path.iterdir()) == []  # it refused, writing nothing
     assert "mcap" in json.loads(out.stdout.strip().splitlines()[-1])
+
+
+_BENCHMARKS_PROBE = """
+import contextlib, io, json, sys
+from axisflow.cli import main
+
+loaded = []
+for words in json.loads(sys.argv[1]):
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.suppress(SystemExit):
+        main(words)
+    loaded.append(sorted(m for m in sys.modules if m.startswith("axisflow.benchmarks.")))
+print(json.dumps(loaded))
+"""
+
+
+def test_a_benchmark_loads_when_it_is_named_and_not_before():
+    commands = [["--help"], ["bench", "--help"], ["bench", "startup", "--help"]]
+    out = subprocess.run(
+        [sys.executable, "-c", _BENCHMARKS_PROBE, json.dumps(commands)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert out.returncode == 0, out.stderr
+    assert json.loads(out.stdout) == [[], [], ["axisflow.benchmarks.startup"]]
+
+
+def test_the_list_of_benchmarks_shows_each_docstring_as_its_module_has_it():
+    import importlib
+
+    from axisflow.cli.bench_cmd import BENCHMARKS, benchmark_docstring
+
+    for module in BENCHMARKS.values():
+        doc = importlib.import_module(f"axisflow.benchmarks.{module}").__doc__
+        assert doc and benchmark_docstring(module) == doc, module
