@@ -11,62 +11,120 @@ The folders follow the data path, from the drive to the disk:
 
 Only :mod:`.bus`, :mod:`.bridge` (its loop and intake), the recorder and replay load Zenoh;
 identification and the views use the rest, and reading a log never loads Zenoh (tests/test_layers.py).
-Names of the Zenoh modules are importable from this package too; they are loaded (with zenoh) on first
-use, so ``from axisflow.acquisition import AxisSample`` stays light. (The function ``replay`` is
+Names of the Zenoh modules are importable from this package too. Every name is loaded with its module
+on first use, so ``from axisflow.acquisition import AxisSample`` loads no Zenoh, and importing one module
+(``axisflow.acquisition.wire.keys``, say) costs that module only. (The function ``replay`` is
 imported from its module, ``axisflow.acquisition.logs.replay``, whose name it shares.)
 """
 
 from __future__ import annotations
 
 import importlib
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from .bridge.move_queue import MoveQueue
-from .drives.drive import Drive, Setpoint
-from .drives.plant import PlantConfig, load_plant, load_profile
-from .drives.sim_axis import SimulatedAxis
-from .errors import (
-    AcquisitionError,
-    BridgeLostError,
-    DamagedLogWarning,
-    MoveRejectedError,
-    PlantError,
-    RecordingError,
-    WireError,
-    ZenohConfigError,
-    ZenohConnectError,
-)
-from .logs.reader import (
-    DamagedChunk,
-    Hole,
-    JointColumns,
-    JointStateColumns,
-    RawMessage,
-    RecordedMessage,
-    SkippedChunk,
-    TopicInfo,
-    is_complete,
-    iter_recording,
-    list_topics,
-    read_joint_states,
-    read_messages,
-)
-from .logs.recover import RecoverReport, recover
-from .wire.attachment import Attachment
-from .wire.keys import AxisKeys, KeyExprError, all_keys, key_for_topic, topic_for_key
-from .wire.messages import (
-    APPEND,
-    JOINT_STATE_TYPE,
-    MOVE_TYPE,
-    SCHEMAS,
-    AxisSample,
-    JointState,
-    MoveCommand,
-)
-from .wire.move_status import MOVE_STATUS_TYPE, MoveState, MoveStatus
-from .wire.plan_record import PLAN_TYPE, PlanRecord
+if TYPE_CHECKING:  # what a type checker sees; at run time __getattr__ loads each name from _HOMES
+    from .bridge.bridge import Bridge, BridgeConfig, BridgeReport, run_bridge  # noqa: F401
+    from .bridge.move_queue import MoveQueue  # noqa: F401
+    from .bus.axis_state import AxisState  # noqa: F401
+    from .bus.move_sender import MoveSender  # noqa: F401
+    from .bus.session import ZenohOptions, build_config, open_session  # noqa: F401
+    from .drives.drive import Drive, Setpoint  # noqa: F401
+    from .drives.plant import PlantConfig, load_plant, load_profile  # noqa: F401
+    from .drives.sim_axis import SimulatedAxis  # noqa: F401
+    from .errors import (  # noqa: F401
+        AcquisitionError,
+        BridgeLostError,
+        DamagedLogWarning,
+        MoveRejectedError,
+        PlantError,
+        RecordingError,
+        WireError,
+        ZenohConfigError,
+        ZenohConnectError,
+    )
+    from .logs.reader import (  # noqa: F401
+        DamagedChunk,
+        Hole,
+        JointColumns,
+        JointStateColumns,
+        RawMessage,
+        RecordedMessage,
+        SkippedChunk,
+        TopicInfo,
+        is_complete,
+        iter_recording,
+        list_topics,
+        read_joint_states,
+        read_messages,
+    )
+    from .logs.recorder import Recorder, RecorderConfig, RecordSummary  # noqa: F401
+    from .logs.recover import RecoverReport, recover  # noqa: F401
+    from .logs.replay import ReplayReport  # noqa: F401
+    from .wire.attachment import Attachment  # noqa: F401
+    from .wire.keys import AxisKeys, KeyExprError, all_keys, key_for_topic, topic_for_key  # noqa: F401
+    from .wire.messages import (  # noqa: F401
+        APPEND,
+        JOINT_STATE_TYPE,
+        MOVE_TYPE,
+        SCHEMAS,
+        AxisSample,
+        JointState,
+        MoveCommand,
+    )
+    from .wire.move_status import MOVE_STATUS_TYPE, MoveState, MoveStatus  # noqa: F401
+    from .wire.plan_record import PLAN_TYPE, PlanRecord  # noqa: F401
 
-_NETWORK_NAMES: dict[str, str] = {
+# each public name → its module, relative to this package
+_HOMES: dict[str, str] = {
+    "MoveQueue": "bridge.move_queue",
+    "Drive": "drives.drive",
+    "Setpoint": "drives.drive",
+    "PlantConfig": "drives.plant",
+    "load_plant": "drives.plant",
+    "load_profile": "drives.plant",
+    "SimulatedAxis": "drives.sim_axis",
+    "AcquisitionError": "errors",
+    "BridgeLostError": "errors",
+    "DamagedLogWarning": "errors",
+    "MoveRejectedError": "errors",
+    "PlantError": "errors",
+    "RecordingError": "errors",
+    "WireError": "errors",
+    "ZenohConfigError": "errors",
+    "ZenohConnectError": "errors",
+    "DamagedChunk": "logs.reader",
+    "Hole": "logs.reader",
+    "JointColumns": "logs.reader",
+    "JointStateColumns": "logs.reader",
+    "RawMessage": "logs.reader",
+    "RecordedMessage": "logs.reader",
+    "SkippedChunk": "logs.reader",
+    "TopicInfo": "logs.reader",
+    "is_complete": "logs.reader",
+    "iter_recording": "logs.reader",
+    "list_topics": "logs.reader",
+    "read_joint_states": "logs.reader",
+    "read_messages": "logs.reader",
+    "RecoverReport": "logs.recover",
+    "recover": "logs.recover",
+    "Attachment": "wire.attachment",
+    "AxisKeys": "wire.keys",
+    "KeyExprError": "wire.keys",
+    "all_keys": "wire.keys",
+    "key_for_topic": "wire.keys",
+    "topic_for_key": "wire.keys",
+    "APPEND": "wire.messages",
+    "JOINT_STATE_TYPE": "wire.messages",
+    "MOVE_TYPE": "wire.messages",
+    "SCHEMAS": "wire.messages",
+    "AxisSample": "wire.messages",
+    "JointState": "wire.messages",
+    "MoveCommand": "wire.messages",
+    "MOVE_STATUS_TYPE": "wire.move_status",
+    "MoveState": "wire.move_status",
+    "MoveStatus": "wire.move_status",
+    "PLAN_TYPE": "wire.plan_record",
+    "PlanRecord": "wire.plan_record",
     "AxisState": "bus.axis_state",
     "Bridge": "bridge.bridge",
     "BridgeConfig": "bridge.bridge",
@@ -84,62 +142,11 @@ _NETWORK_NAMES: dict[str, str] = {
 
 
 def __getattr__(name: str) -> Any:
-    """Load a name of the network layer (and zenoh) on first use."""
-    module = _NETWORK_NAMES.get(name)
+    """Load a public name with its module on first use."""
+    module = _HOMES.get(name)
     if module is None:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
     return getattr(importlib.import_module(f".{module}", __name__), name)
 
 
-__all__ = [
-    "APPEND",
-    "JOINT_STATE_TYPE",
-    "MOVE_STATUS_TYPE",
-    "MOVE_TYPE",
-    "PLAN_TYPE",
-    "SCHEMAS",
-    "AcquisitionError",
-    "BridgeLostError",
-    "Attachment",
-    "AxisKeys",
-    "AxisSample",
-    "DamagedChunk",
-    "DamagedLogWarning",
-    "Drive",
-    "Hole",
-    "JointColumns",
-    "JointState",
-    "JointStateColumns",
-    "KeyExprError",
-    "MoveCommand",
-    "MoveQueue",
-    "MoveRejectedError",
-    "MoveState",
-    "MoveStatus",
-    "PlanRecord",
-    "PlantConfig",
-    "RawMessage",
-    "PlantError",
-    "RecordedMessage",
-    "RecordingError",
-    "RecoverReport",
-    "Setpoint",
-    "SkippedChunk",
-    "SimulatedAxis",
-    "TopicInfo",
-    "WireError",
-    "ZenohConfigError",
-    "ZenohConnectError",
-    "all_keys",
-    "is_complete",
-    "iter_recording",
-    "key_for_topic",
-    "list_topics",
-    "load_plant",
-    "load_profile",
-    "read_joint_states",
-    "read_messages",
-    "recover",
-    "topic_for_key",
-    *_NETWORK_NAMES,
-]
+__all__ = sorted(_HOMES)

@@ -5,8 +5,10 @@ from __future__ import annotations
 
 import argparse
 import math
+from typing import TYPE_CHECKING
 
-from .model import AxisParams, load_params
+if TYPE_CHECKING:
+    from .model import AxisParams
 
 
 def add_params_option(parser: argparse.ArgumentParser) -> None:
@@ -19,6 +21,8 @@ def add_params_option(parser: argparse.ArgumentParser) -> None:
 
 
 def params_from_args(args: argparse.Namespace) -> AxisParams:
+    from .model import load_params
+
     return load_params(args.params)
 
 

@@ -36,7 +36,8 @@ from pathlib import Path
 
 from .acquisition.bus.session import check_endpoint
 from .acquisition.wire.keys import DEFAULT_PREFIX, AxisKeys, all_keys, topic_for_key
-from .demo import READY_TIMEOUT_S, DemoSettings
+from .demo import READY_TIMEOUT_S
+from .demo_settings import DemoSettings
 from .model import AxisflowError, load_params
 from .model.files import write_atomic
 from .processes import Child, Exited, Launcher, free_port

@@ -18,12 +18,13 @@ their own, on an embedded Zenoh peer network on loopback, then, in this process:
 
 Everything lands in one session folder. The bridge runs as fast as the recorder takes its samples
 (``--speed 0``; between the phases, with nobody recording, it waits) so that ~25 minutes of axis time
-take a few minutes; the way point count defaults to :data:`DEFAULT_WAYPOINTS` (the paper used 100).
-The bridge and the recorders are started by a :class:`~axisflow.processes.Launcher`: Ctrl-C (or
-SIGTERM) stops everything cleanly — the recordings are finished — and even a SIGKILL of the demo
-leaves no process running (they follow the launcher's lifeline). Each phase begins once its
-recorder's subscriber has joined (its ready byte, then its token seen by this session) and ends with
-the recorder's own stop, which proves nothing was still on the way (acquisition.bus.readiness).
+take a few minutes; the way point count defaults to :data:`~axisflow.demo_settings.DEFAULT_WAYPOINTS`
+(the paper used 100). The bridge and the recorders are started by a
+:class:`~axisflow.processes.Launcher`: Ctrl-C (or SIGTERM) stops everything cleanly — the recordings
+are finished — and even a SIGKILL of the demo leaves no process running (they follow the launcher's
+lifeline). Each phase begins once its recorder's subscriber has joined (its ready byte, then its token
+seen by this session) and ends with the recorder's own stop, which proves nothing was still on the way
+(acquisition.bus.readiness).
 """
 
 from __future__ import annotations
@@ -37,45 +38,21 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .acquisition import AxisKeys
-from .acquisition.drives.plant import DEFAULT_PROFILE, load_profile
+from .acquisition.drives.plant import load_profile
 from .acquisition.wire.keys import recorder_token
-from .experiment import CASES, LAWS
+from .demo_settings import DemoSettings
+from .experiment import CASES
 from .model import AxisflowError, AxisParams, load_params
 from .model.files import write_atomic
-from .paper import FIG5_WAYPOINTS
+from .paper import FIG5_WAYPOINTS, LAWS
 from .planner import DEFAULT_OMEGA, make_backend
 from .processes import Child, Launcher, free_port
 from .table2 import table_from_recording
 from .table2_record import Table2, write_table2
 from .waypoints import random_waypoints
 
-DEFAULT_WAYPOINTS = 50
-"""way points of Fig. 5 (the paper's 25)"""
-DEFAULT_LOOKAHEAD = 1
-DEFAULT_LOOKAHEAD_S = 60.0
-"""drive time kept queued behind the running move [s]: at --speed 0 the bridge runs ~40× real time on
-two cores shared by three processes, and a planner that loses the CPU for 150 ms (seen on a loaded
-machine) finds the queue 6 s of drive time shorter (docs/performance.md)"""
 READY_TIMEOUT_S = 60.0
 """how long the bridge, or a recorder, may take to start (and the recorder to join) [s]"""
-
-
-@dataclass(frozen=True)
-class DemoSettings:
-    out: Path
-    waypoints: int = DEFAULT_WAYPOINTS
-    seed: int = 0
-    speed: float = 0.0
-    solver: str = "exact"
-    lookahead: int = DEFAULT_LOOKAHEAD
-    lookahead_s: float = DEFAULT_LOOKAHEAD_S
-    params_path: str | None = None
-    plant_profile: str = DEFAULT_PROFILE
-    """the simulated axis's packaged plant profile (ideal, realistic, warm-up)"""
-    drive: str = "sim"
-    """the bridge's drive: ``sim`` (the built-in simulated axis) or ``canopen-sim`` (a simulated CiA 402
-    drive on an in-process CAN bus in the bridge's process: encoder counts, per-mille torque, one bus
-    cycle of latency)"""
 
 
 @dataclass

@@ -16,13 +16,12 @@ from itertools import pairwise
 import numpy as np
 
 from .model import AxisParams, MoveError, polynomial_law
-from .paper import PAPER_WAYPOINTS
+from .paper import LAWS, PAPER_WAYPOINTS
 from .planner import DEFAULT_OMEGA, Case, MoveProblem, PlannerBackend, PlanResult
 from .planner.reference_laws import least_energy, time_optimal
 from .table2_record import LimitColumns, PlannedColumns, Table2, Table2Row
 from .waypoints import random_waypoints
 
-LAWS: tuple[str, ...] = ("poly3", "poly5", "poly7")
 CASES: tuple[Case, ...] = (Case.MIN_TIME, Case.MIN_TIME_ENERGY)
 
 

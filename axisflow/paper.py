@@ -1,4 +1,5 @@
-"""Published figures of the source paper (Fabris et al., Table 2), for side-by-side comparison."""
+"""Published figures of the source paper (Fabris et al., Table 2), for side-by-side comparison, and the
+shape of its experiment: the laws of Table 2 and its way point counts."""
 
 from __future__ import annotations
 
@@ -28,6 +29,8 @@ PAPER_TABLE2: dict[tuple[str, str], PaperRow] = {
         PaperRow("min-time-energy", "poly7", 319.62, 7658, 8527, -11.35, 7.47, 1.05),
     )
 }
+LAWS: tuple[str, ...] = ("poly3", "poly5", "poly7")
+"""the polynomial laws of Table 2 (each planned in both cases)"""
 PAPER_WAYPOINTS = 100
 FIG5_WAYPOINTS = 25
 """the paper's Fig. 5 shows runs through 25 random way points"""

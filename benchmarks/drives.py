@@ -37,16 +37,15 @@ from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from axisflow.acquisition.drives.drive import Setpoint
-from axisflow.acquisition.drives.plant import PlantConfig, load_plant
-from axisflow.acquisition.drives.sim_axis import SimulatedAxis
 from axisflow.benchmarks.pipeline import free_port
-from axisflow.model import AxisParams, Move, cart_force, default_params, polynomial_law
 
 from axisflow.arguments import finite_float, positive_int
 
-if TYPE_CHECKING:  # python-can and canopen load when the benchmark runs
+if TYPE_CHECKING:  # the drives (python-can and canopen too) load when the benchmark runs
     from axisflow.acquisition.drives.canopen.config import DriveConfig
+    from axisflow.acquisition.drives.drive import Setpoint
+    from axisflow.acquisition.drives.plant import PlantConfig
+    from axisflow.model import AxisParams
 
 CLI = [sys.executable, "-c", "import sys; from axisflow.cli import main; sys.exit(main())"]
 
@@ -66,6 +65,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def _back_and_forth(params: AxisParams) -> list[Setpoint]:
     """A poly5 move 0.1 → 0.6 m and back in 0.8 s each, as 1 kHz setpoints (one period: 1.6 s)."""
+    from axisflow.acquisition.drives.drive import Setpoint
+    from axisflow.model import Move, cart_force, polynomial_law
+
     out = []
     for x0, x1 in ((0.1, 0.6), (0.6, 0.1)):
         move = Move(x0, x1, 0.8, polynomial_law("poly5"))
@@ -78,11 +80,15 @@ def _back_and_forth(params: AxisParams) -> list[Setpoint]:
 
 def _plant(params: AxisParams) -> PlantConfig:
     """The packaged plant, starting where the move does."""
+    from axisflow.acquisition.drives.plant import load_plant
+
     plant = load_plant(None, params)
     return replace(plant, simulation=replace(plant.simulation, initial_position_m=0.1))
 
 
 def _simulated_axis(params: AxisParams, setpoints: list[Setpoint], ticks: int) -> float:
+    from axisflow.acquisition.drives.sim_axis import SimulatedAxis
+
     plant = _plant(params)
     axis = SimulatedAxis(plant, params, start_stamp_ns=0)
     t0 = time.perf_counter()
@@ -130,6 +136,8 @@ def _canopen(params: AxisParams, setpoints: list[Setpoint], ticks: int, drives: 
 
 
 def lockstep(ticks: int) -> dict[str, Any]:
+    from axisflow.model import default_params
+
     params = default_params()
     setpoints = _back_and_forth(params)
     base = _simulated_axis(params, setpoints, ticks)

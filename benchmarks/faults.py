@@ -17,8 +17,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from axisflow.acquisition.drives.plant import load_plant
-from axisflow.model import AxisflowError, default_params
+from axisflow.model import AxisflowError
 
 if TYPE_CHECKING:
     from axisflow.faults.outcome import FaultResult, Outcome
@@ -87,6 +86,9 @@ def run_scenario(name: str, work: Path, args: argparse.Namespace) -> tuple[list[
 
 def run(args: argparse.Namespace) -> int:
     """All (or ``--only``) scenarios; the table, or one JSON object; exit 1 if a contract failed."""
+    from axisflow.acquisition.drives.plant import load_plant
+    from axisflow.model import default_params
+
     names = list(dict.fromkeys(args.only or SCENARIOS))
     if args.keep and Path(args.keep).exists() and any(Path(args.keep).iterdir()):
         raise AxisflowError(

@@ -29,10 +29,6 @@ import tempfile
 import time
 from pathlib import Path
 
-from ..acquisition.drives.plant import load_plant
-from ..acquisition.logs.synthetic_log import SyntheticLogSpec, write_synthetic_log
-from ..model import default_params
-
 GOAL_TOTAL_S = 10.0
 GOAL_RSS_MB = 1024.0
 
@@ -84,6 +80,10 @@ def _child(code: str, *argv: str) -> subprocess.CompletedProcess:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..acquisition.drives.plant import load_plant
+    from ..acquisition.logs.synthetic_log import SyntheticLogSpec, write_synthetic_log
+    from ..model import default_params
+
     nominal = default_params()
     plant = load_plant(None, nominal)  # the default plant file: the one home of its [scale] factors
     true = plant.axis

@@ -32,15 +32,16 @@ import math
 import time
 from collections import Counter
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from axisflow.model import AxisParams, EnergyAccounting, forward_friction
 from axisflow.planner import Case, MoveProblem, make_backend
 from axisflow.planner.errors import InfeasibleMoveError
-from axisflow.planner.exact import solve_exact
 
 from axisflow.arguments import add_params_option, non_negative_int, params_from_args, positive_int
+
+if TYPE_CHECKING:  # the model's numerics and the solvers load when the benchmark runs
+    from axisflow.model import AxisParams
 
 LAWS = ("poly3", "poly5", "poly7")
 REFERENCE_IPOPT = {"max_iter": 1000, "tol": 1e-10, "limit_margin": 0.0, "nodes": 2000}
@@ -85,6 +86,8 @@ def _pct(values: list[float], q: float) -> float:
 # ---- latency ------------------------------------------------------------------------------------
 def latency(params: AxisParams, moves: int, seed: int) -> dict[str, Any]:
     """Solve the same moves with both back-ends; per-solve latencies [µs] (see the module doc)."""
+    from axisflow.planner.exact import solve_exact
+
     problems = []
     for i, (x0, x1) in enumerate(random_moves(moves, seed, params.L)):
         case = Case.MIN_TIME if (i // 3) % 2 == 0 else Case.MIN_TIME_ENERGY
@@ -146,6 +149,8 @@ def _print_latency(res: dict[str, Any]) -> None:
 
 def _time_all(problems, params, exact, ipopt, t, by_kind) -> None:  # noqa: ANN001
     """Time every exact solve and result, then every IPOPT result (its solve time is inside it)."""
+    from axisflow.planner.exact import solve_exact
+
     for p in problems:
         t0 = time.perf_counter()
         solve_exact(p, params)
@@ -198,6 +203,8 @@ _DENSE_U = np.linspace(0.0, 1.0, 20_001)
 def _dense_violation(problem: MoveProblem, params: AxisParams, duration_s: float) -> float:
     """Relative excess of the peak velocity / motor torque over its limit at a duration, on a dense
     grid of the normalised time (eq. 1 directly, independent of the exact solver's analysis)."""
+    from axisflow.model import forward_friction
+
     law, D = problem.law, abs(problem.distance_m)
     if D == 0.0:
         return 0.0
@@ -229,6 +236,8 @@ def _brute_force(problem: MoveProblem, params: AxisParams, candidates: list[floa
 
 def agreement(params: AxisParams, moves: int, seed: int, progress: bool = True) -> dict[str, Any]:
     """The agreement study (see the module docstring). Returns plain JSON data."""
+    from axisflow.model import EnergyAccounting
+
     exact = make_backend("exact")
     ref = make_backend("ipopt", **REFERENCE_IPOPT)
     cap = make_backend("ipopt", max_iter=10)

@@ -21,11 +21,12 @@ import dataclasses
 import json
 import math
 import time
+from typing import TYPE_CHECKING
 
-from ..acquisition.drives.drive import Setpoint
-from ..acquisition.drives.plant import PROFILE_RESOURCES, load_profile
-from ..acquisition.drives.sim_axis import SimulatedAxis
-from ..model import cart_force, default_params
+from ..acquisition.drives.plant_profiles import PROFILE_RESOURCES
+
+if TYPE_CHECKING:  # the simulated axis loads when the benchmark runs
+    from ..acquisition.drives.drive import Setpoint
 
 GOAL_RATIO = 2.0
 
@@ -44,6 +45,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def _setpoints(n: int) -> list[Setpoint]:
     """x = 0.1 + 0.3·(1 − cos ωt), ω = 2π·0.5 Hz: from rest at 0.1 m to 0.7 m and back, every 2 s."""
+    from ..acquisition.drives.drive import Setpoint
+    from ..model import cart_force, default_params
+
     p = default_params()
     w, amplitude = 2.0 * math.pi * 0.5, 0.3
     out = []
@@ -56,6 +60,10 @@ def _setpoints(n: int) -> list[Setpoint]:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..acquisition.drives.plant import load_profile
+    from ..acquisition.drives.sim_axis import SimulatedAxis
+    from ..model import default_params
+
     nominal = default_params()
     setpoints = _setpoints(args.ticks)
     drives = {}
@@ -122,6 +130,10 @@ def run(args: argparse.Namespace) -> int:
 
 def _warm_up(seconds: float, period: list[Setpoint]) -> list[dict[str, float]]:
     """The warm-up drive on ``period`` (2 s, repeated) for ``seconds``; the drift once a minute."""
+    from ..acquisition.drives.plant import load_profile
+    from ..acquisition.drives.sim_axis import SimulatedAxis
+    from ..model import default_params
+
     nominal = default_params()
     plant = load_profile("warm-up", nominal)
     plant = dataclasses.replace(

@@ -29,7 +29,6 @@ import tempfile
 import time
 from pathlib import Path
 
-from ..acquisition.logs.synthetic_log import SyntheticLogSpec, write_synthetic_log
 from ..processes import Launcher, free_port
 from .pipeline import axis_counts, play
 
@@ -150,6 +149,8 @@ def _say(args: argparse.Namespace, text: str) -> None:
 
 
 def _log_steps(args: argparse.Namespace, tmp: Path, result: dict) -> None:
+    from ..acquisition.logs.synthetic_log import SyntheticLogSpec, write_synthetic_log
+
     spec = SyntheticLogSpec(duration_s=args.hours * 3600.0)
     log = Path(args.log) if args.log else tmp / "hour.mcap"
     if not log.exists():

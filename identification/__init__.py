@@ -3,24 +3,50 @@ eq. (1) visible, and the SQP refit of M_eq and a1…a4 from any JointState MCAP 
 jittered stamps and all — with what the model leaves unexplained (docs/identification.md). The fit
 over a window of samples (:func:`~.fit.fit_window`, warm-startable) is what an adaptive node reuses.
 
-Uses the model and acquisition's records-and-logs layer (the fast log reader); loads no Zenoh. The
-names of the fit (which needs CasADi) load on first use, so the excitation stays light.
+Uses the model and acquisition's records-and-logs layer (the fast log reader); loads no Zenoh. Every
+name is loaded with its module on first use, so the excitation stays light: the names of the fit
+(which needs CasADi) load CasADi only when used.
 """
 
 from __future__ import annotations
 
 import importlib
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from .errors import IdentificationError
-from .excitation import Burst, ExcitationPlan, design_excitation
-from .extra_terms import ExtraTerms
-from .preparation import PreparationSettings
-from .sample_grid import SampleGrid, place_on_grid
-from .signals import JointKind, JointSignals, load_joint
-from .uncertainty import Uncertainty, estimate_uncertainty
+if TYPE_CHECKING:  # what a type checker sees; at run time __getattr__ loads each name from _HOMES
+    from .errors import IdentificationError  # noqa: F401
+    from .excitation import Burst, ExcitationPlan, design_excitation  # noqa: F401
+    from .extra_terms import ExtraTerms  # noqa: F401
+    from .fit import (  # noqa: F401
+        PARAMETERS,
+        FitResult,
+        FrictionFit,
+        FrictionValues,
+        WindowFit,
+        fit_parameters,
+        fit_window,
+    )
+    from .preparation import PreparationSettings  # noqa: F401
+    from .refit import ErrorStats, Identification, IdentifySettings, identify  # noqa: F401
+    from .sample_grid import SampleGrid, place_on_grid  # noqa: F401
+    from .signals import JointKind, JointSignals, load_joint  # noqa: F401
+    from .uncertainty import Uncertainty, estimate_uncertainty  # noqa: F401
 
-_FIT_NAMES: dict[str, str] = {
+# each public name → its module, relative to this package
+_HOMES: dict[str, str] = {
+    "IdentificationError": "errors",
+    "Burst": "excitation",
+    "ExcitationPlan": "excitation",
+    "design_excitation": "excitation",
+    "ExtraTerms": "extra_terms",
+    "PreparationSettings": "preparation",
+    "SampleGrid": "sample_grid",
+    "place_on_grid": "sample_grid",
+    "JointKind": "signals",
+    "JointSignals": "signals",
+    "load_joint": "signals",
+    "Uncertainty": "uncertainty",
+    "estimate_uncertainty": "uncertainty",
     "PARAMETERS": "fit",
     "FitResult": "fit",
     "FrictionFit": "fit",
@@ -36,26 +62,11 @@ _FIT_NAMES: dict[str, str] = {
 
 
 def __getattr__(name: str) -> Any:
-    """Load a name of the fit (and CasADi) on first use."""
-    module = _FIT_NAMES.get(name)
+    """Load a public name with its module on first use."""
+    module = _HOMES.get(name)
     if module is None:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
     return getattr(importlib.import_module(f".{module}", __name__), name)
 
 
-__all__ = [
-    "Burst",
-    "ExcitationPlan",
-    "ExtraTerms",
-    "IdentificationError",
-    "JointKind",
-    "JointSignals",
-    "PreparationSettings",
-    "SampleGrid",
-    "Uncertainty",
-    "design_excitation",
-    "estimate_uncertainty",
-    "load_joint",
-    "place_on_grid",
-    *_FIT_NAMES,
-]
+__all__ = sorted(_HOMES)

@@ -22,13 +22,18 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..model import AxisParams
 from .errors import IdentificationError
 from .preparation import PreparationSettings, PreparedLog
 
+if TYPE_CHECKING:
+    from ..model import AxisParams
+
+DEFAULT_STROKE_TERMS = 6
+"""Legendre terms of the Coulomb friction along the stroke a refit takes in by default"""
 MAX_STROKE_TERMS = 12
 ALIAS_FRACTION = 0.25
 """cogging terms are kept where n·|θ̇|/2π is below this fraction of the sampling rate"""

@@ -26,13 +26,17 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..model import AxisParams, friction_expression, friction_force
+from ..model import friction_expression, friction_force
 from .errors import IdentificationError
 from .preparation import FitSamples
 from .uncertainty import Uncertainty, estimate_uncertainty
+
+if TYPE_CHECKING:
+    from ..model import AxisParams
 
 PARAMETERS: tuple[str, ...] = ("M_eq", "a1", "a2", "a3", "a4")
 """what a refit may estimate, in report order"""

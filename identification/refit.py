@@ -32,21 +32,15 @@ from pathlib import Path
 
 import numpy as np
 
-from ..acquisition.wire.keys import AxisKeys, topic_for_key
 from ..model import AxisParams, ParameterError
 from .alignment import DelayEstimate, estimate_delay
 from .errors import IdentificationError
-from .extra_terms import ExtraTerms, TermColumns, covered_stretch
+from .extra_terms import DEFAULT_STROKE_TERMS, ExtraTerms, TermColumns, covered_stretch
 from .fit import PARAMETERS, FitResult, FrictionValues, WindowFit, check_fit_names, fit_window
 from .preparation import PreparationSettings, PreparedLog, fit_indices, fit_samples, prepare
 from .residuals import ResidualAnalysis, analyse_residuals, analysed_span
-from .signals import JointKind, TimeWindow, joint_kind, load_joint
+from .signals import DEFAULT_JOINT, DEFAULT_TOPIC, JointKind, TimeWindow, joint_kind, load_joint
 from .uncertainty import Uncertainty
-
-DEFAULT_TOPIC = topic_for_key(AxisKeys().state)
-DEFAULT_JOINT = "motor"
-DEFAULT_STROKE_TERMS = 6
-"""Legendre terms of the Coulomb friction along the stroke a refit takes in by default"""
 
 
 @dataclass(frozen=True)

@@ -40,15 +40,22 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import StrEnum
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..acquisition.logs.reader import read_joint_states, read_messages
-from ..acquisition.wire.drive_info import DRIVE_INFO_TYPE, DriveInfo
-from ..model import AxisflowError, AxisParams
+from ..acquisition.wire.keys import AxisKeys, topic_for_key
+from ..model import AxisflowError
 from .errors import IdentificationError
 from .sample_grid import SampleGrid, place_on_grid
 
+if TYPE_CHECKING:
+    from ..model import AxisParams
+
+DEFAULT_TOPIC = topic_for_key(AxisKeys().state)
+"""the JointState topic a refit reads unless told: the state of our default axis"""
+DEFAULT_JOINT = "motor"
+"""the joint a refit reads unless told (a :class:`JointKind` by its name)"""
 MAX_NONFINITE_FRACTION = 0.01
 """more non-finite samples than this fraction of a log is an error, not something to drop"""
 MIN_DURATION_S = 2.0
@@ -198,6 +205,8 @@ def load_joint(
 ) -> JointSignals:
     """The joint ``joint`` of ``topic`` in the log at ``path`` (within ``window``: default the whole
     log), checked (see the module docstring)."""
+    from ..acquisition.logs.reader import read_joint_states  # the log reader (mcap) loads when used
+
     columns = read_joint_states(path, topic)
     data = columns.joint(joint)
     jk = joint_kind(joint, kind)
@@ -279,6 +288,9 @@ def recorded_drive(path: str | Path, topic: str) -> str | None:
     """What drove the axis whose samples are on ``topic`` (``/<prefix>/<axis>/state``), as its bridge
     recorded it on ``/<prefix>/<axis>/drive`` (:class:`~axisflow.acquisition.wire.drive_info.DriveInfo`);
     None for a log without it (another tool's, or a bridge that did not say)."""
+    from ..acquisition.logs.reader import read_messages
+    from ..acquisition.wire.drive_info import DRIVE_INFO_TYPE, DriveInfo
+
     drive_topic = topic.rsplit("/", 1)[0] + "/drive"
     try:
         messages = read_messages(path, drive_topic, DRIVE_INFO_TYPE)

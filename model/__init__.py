@@ -3,94 +3,115 @@ and the drive's 1 kHz sampling rule.
 
 This is the bottom layer of axisflow: it depends on numpy/scipy only, and everything else
 (acquisition, identification, planner, viz, the command line) imports it, never the reverse.
+
+Each public name is loaded with its module on first use, so that importing one module of the model
+(``axisflow.model.errors``, say) costs that module only.
 """
 
-from .braking import StopProfile, braking_acceleration, stop_profile
-from .dynamics import (
-    cart_force,
-    cart_force_from_torque,
-    mechanical_power,
-    motor_angle,
-    motor_speed,
-    motor_torque,
-)
-from .energy import count_power, move_energy, trace_energy, trace_energy_at
-from .errors import AxisflowError, AxisflowWarning, MoveError, ParameterError
-from .friction import (
-    FRICTION_PARAMETERS,
-    forward_friction,
-    friction_curvature,
-    friction_expression,
-    friction_force,
-    friction_regressors,
-    friction_slope,
-)
-from .limits import LimitReport, check_limits, execution_times
-from .motion_laws import (
-    MAX_MOVE_DURATION_S,
-    POLYNOMIAL_LAWS,
-    Motion,
-    Move,
-    MoveSamples,
-    PolynomialLaw,
-    polynomial_law,
-)
-from .params import AxisParams, EnergyAccounting, default_params, load_params, params_to_toml
-from .sampling import (
-    EXECUTION_PERIOD_NS,
-    EXECUTION_PERIOD_S,
-    EXECUTION_RATE_HZ,
-    move_ticks,
-    sample_count,
-    ticks_to_seconds,
-)
-from .trajectory import SampledTrajectory
+from __future__ import annotations
 
-__all__ = [
-    "EXECUTION_PERIOD_NS",
-    "EXECUTION_PERIOD_S",
-    "EXECUTION_RATE_HZ",
-    "FRICTION_PARAMETERS",
-    "MAX_MOVE_DURATION_S",
-    "POLYNOMIAL_LAWS",
-    "AxisParams",
-    "AxisflowError",
-    "AxisflowWarning",
-    "EnergyAccounting",
-    "LimitReport",
-    "Motion",
-    "Move",
-    "MoveError",
-    "MoveSamples",
-    "ParameterError",
-    "PolynomialLaw",
-    "SampledTrajectory",
-    "StopProfile",
-    "braking_acceleration",
-    "cart_force",
-    "cart_force_from_torque",
-    "check_limits",
-    "count_power",
-    "default_params",
-    "execution_times",
-    "forward_friction",
-    "friction_curvature",
-    "friction_expression",
-    "friction_force",
-    "friction_regressors",
-    "friction_slope",
-    "load_params",
-    "mechanical_power",
-    "motor_angle",
-    "motor_speed",
-    "motor_torque",
-    "move_energy",
-    "move_ticks",
-    "params_to_toml",
-    "polynomial_law",
-    "sample_count",
-    "stop_profile",
-    "ticks_to_seconds",
-    "trace_energy",
-    "trace_energy_at",
-]
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # what a type checker sees; at run time __getattr__ loads each name from _HOMES
+    from .braking import StopProfile, braking_acceleration, stop_profile  # noqa: F401
+    from .dynamics import (  # noqa: F401
+        cart_force,
+        cart_force_from_torque,
+        mechanical_power,
+        motor_angle,
+        motor_speed,
+        motor_torque,
+    )
+    from .energy import count_power, move_energy, trace_energy, trace_energy_at  # noqa: F401
+    from .errors import AxisflowError, AxisflowWarning, MoveError, ParameterError  # noqa: F401
+    from .friction import (  # noqa: F401
+        FRICTION_PARAMETERS,
+        forward_friction,
+        friction_curvature,
+        friction_expression,
+        friction_force,
+        friction_regressors,
+        friction_slope,
+    )
+    from .limits import LimitReport, check_limits, execution_times  # noqa: F401
+    from .motion_laws import (  # noqa: F401
+        MAX_MOVE_DURATION_S,
+        POLYNOMIAL_LAWS,
+        Motion,
+        Move,
+        MoveSamples,
+        PolynomialLaw,
+        polynomial_law,
+    )
+    from .params import AxisParams, EnergyAccounting, default_params, load_params, params_to_toml  # noqa: F401
+    from .sampling import (  # noqa: F401
+        EXECUTION_PERIOD_NS,
+        EXECUTION_PERIOD_S,
+        EXECUTION_RATE_HZ,
+        move_ticks,
+        sample_count,
+        ticks_to_seconds,
+    )
+    from .trajectory import SampledTrajectory  # noqa: F401
+
+# each public name → its module, relative to this package
+_HOMES: dict[str, str] = {
+    "StopProfile": "braking",
+    "braking_acceleration": "braking",
+    "stop_profile": "braking",
+    "cart_force": "dynamics",
+    "cart_force_from_torque": "dynamics",
+    "mechanical_power": "dynamics",
+    "motor_angle": "dynamics",
+    "motor_speed": "dynamics",
+    "motor_torque": "dynamics",
+    "count_power": "energy",
+    "move_energy": "energy",
+    "trace_energy": "energy",
+    "trace_energy_at": "energy",
+    "AxisflowError": "errors",
+    "AxisflowWarning": "errors",
+    "MoveError": "errors",
+    "ParameterError": "errors",
+    "FRICTION_PARAMETERS": "friction",
+    "forward_friction": "friction",
+    "friction_curvature": "friction",
+    "friction_expression": "friction",
+    "friction_force": "friction",
+    "friction_regressors": "friction",
+    "friction_slope": "friction",
+    "LimitReport": "limits",
+    "check_limits": "limits",
+    "execution_times": "limits",
+    "MAX_MOVE_DURATION_S": "motion_laws",
+    "POLYNOMIAL_LAWS": "motion_laws",
+    "Motion": "motion_laws",
+    "Move": "motion_laws",
+    "MoveSamples": "motion_laws",
+    "PolynomialLaw": "motion_laws",
+    "polynomial_law": "motion_laws",
+    "AxisParams": "params",
+    "EnergyAccounting": "params",
+    "default_params": "params",
+    "load_params": "params",
+    "params_to_toml": "params",
+    "EXECUTION_PERIOD_NS": "sampling",
+    "EXECUTION_PERIOD_S": "sampling",
+    "EXECUTION_RATE_HZ": "sampling",
+    "move_ticks": "sampling",
+    "sample_count": "sampling",
+    "ticks_to_seconds": "sampling",
+    "SampledTrajectory": "trajectory",
+}
+
+
+def __getattr__(name: str) -> Any:
+    """Load a public name with its module on first use."""
+    module = _HOMES.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(importlib.import_module(f".{module}", __name__), name)
+
+
+__all__ = sorted(_HOMES)

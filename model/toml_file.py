@@ -1,9 +1,10 @@
-"""Reading the project's TOML files (parameters, plant) with user-facing errors."""
+"""Reading the project's TOML files (parameters, plant) with user-facing errors.
+
+The TOML parser and ``importlib.resources`` (which brings ``tempfile`` along) load on the first read, so
+that importing the model costs none of them (the command line's ``--help`` reads no file)."""
 
 from __future__ import annotations
 
-import tomllib
-from importlib import resources
 from pathlib import Path
 from typing import Any
 
@@ -17,6 +18,9 @@ def read_toml(
 
     A missing, unreadable or malformed file raises ``error`` naming the file and the ``kind`` of file.
     """
+    import tomllib
+    from importlib import resources
+
     if path is None:
         text = resources.files(package).joinpath(resource).read_text("utf-8")
         source = f"default {kind} ({resource})"

@@ -1,33 +1,55 @@
-"""Point-to-point planning: the paper's problem, its back-ends and their results."""
+"""Point-to-point planning: the paper's problem, its back-ends and their results.
 
-from .backend import BACKENDS, PlannerBackend, make_backend
-from .certificates import Certificate, MinTimeCertificate, TimeEnergyCertificate
-from .errors import InfeasibleMoveError
-from .exact import Active, ExactBackend, ExactSolution, solve_exact
-from .problem import DEFAULT_OMEGA, DEFAULT_TIME_BOUNDS_S, Case, MoveProblem
-from .reference_laws import REFERENCE_LAWS, ReferenceProfile, least_energy, time_optimal
-from .result import PlanResult, SolveStatus
+Each public name is loaded with its module on first use: importing one module of the planner (its
+defaults, say) costs that module only.
+"""
 
-__all__ = [
-    "BACKENDS",
-    "DEFAULT_OMEGA",
-    "DEFAULT_TIME_BOUNDS_S",
-    "REFERENCE_LAWS",
-    "Active",
-    "Case",
-    "Certificate",
-    "ExactBackend",
-    "ExactSolution",
-    "InfeasibleMoveError",
-    "MinTimeCertificate",
-    "MoveProblem",
-    "PlanResult",
-    "PlannerBackend",
-    "ReferenceProfile",
-    "SolveStatus",
-    "TimeEnergyCertificate",
-    "least_energy",
-    "make_backend",
-    "solve_exact",
-    "time_optimal",
-]
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # what a type checker sees; at run time __getattr__ loads each name from _HOMES
+    from .backend import BACKENDS, PlannerBackend, make_backend  # noqa: F401
+    from .certificates import Certificate, MinTimeCertificate, TimeEnergyCertificate  # noqa: F401
+    from .errors import InfeasibleMoveError  # noqa: F401
+    from .exact import Active, ExactBackend, ExactSolution, solve_exact  # noqa: F401
+    from .problem import DEFAULT_OMEGA, DEFAULT_TIME_BOUNDS_S, REFERENCE_LAWS, Case, MoveProblem  # noqa: F401
+    from .reference_laws import ReferenceProfile, least_energy, time_optimal  # noqa: F401
+    from .result import PlanResult, SolveStatus  # noqa: F401
+
+# each public name → its module, relative to this package
+_HOMES: dict[str, str] = {
+    "BACKENDS": "backend",
+    "PlannerBackend": "backend",
+    "make_backend": "backend",
+    "Certificate": "certificates",
+    "MinTimeCertificate": "certificates",
+    "TimeEnergyCertificate": "certificates",
+    "InfeasibleMoveError": "errors",
+    "Active": "exact",
+    "ExactBackend": "exact",
+    "ExactSolution": "exact",
+    "solve_exact": "exact",
+    "DEFAULT_OMEGA": "problem",
+    "DEFAULT_TIME_BOUNDS_S": "problem",
+    "Case": "problem",
+    "MoveProblem": "problem",
+    "REFERENCE_LAWS": "problem",
+    "ReferenceProfile": "reference_laws",
+    "least_energy": "reference_laws",
+    "time_optimal": "reference_laws",
+    "PlanResult": "result",
+    "SolveStatus": "result",
+}
+
+
+def __getattr__(name: str) -> Any:
+    """Load a public name with its module on first use."""
+    module = _HOMES.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(importlib.import_module(f".{module}", __name__), name)
+
+
+__all__ = sorted(_HOMES)

@@ -3,11 +3,14 @@
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
-from ..model import AxisParams, MoveError
-from .problem import MoveProblem
-from .result import PlanResult
+from ..model import MoveError
+
+if TYPE_CHECKING:
+    from ..model import AxisParams
+    from .problem import MoveProblem
+    from .result import PlanResult
 
 
 class PlannerBackend(Protocol):

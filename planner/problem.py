@@ -15,8 +15,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from enum import StrEnum
+from typing import TYPE_CHECKING
 
-from ..model import MAX_MOVE_DURATION_S, AxisParams, MoveError, PolynomialLaw, polynomial_law
+from ..model import MAX_MOVE_DURATION_S, MoveError, PolynomialLaw, polynomial_law
+
+if TYPE_CHECKING:
+    from ..model import AxisParams
 
 
 class Case(StrEnum):
@@ -31,6 +35,9 @@ DEFAULT_TIME_BOUNDS_S: dict[Case, tuple[float, float]] = {
     Case.MIN_TIME_ENERGY: (0.3, 20.0),
 }
 DEFAULT_OMEGA = 0.9
+REFERENCE_LAWS: tuple[str, ...] = ("bang", "least-energy")
+"""the reference laws by name (:mod:`.reference_laws`): the same move planned at the axis's limits
+instead of along a polynomial law, as ``--law`` accepts them"""
 DEFAULT_W0 = 100.0
 """the paper's w0 of eq. (2), "used to improve the convergence": with 100, IPOPT converges within its
 10 iterations on the default axis (measured: ~9 iterations; with 1 most solves stop at the cap)"""

@@ -46,10 +46,7 @@ from ..model import AxisParams, EnergyAccounting, MoveError, forward_friction
 from ..model.deadline import Deadline, iteration_cap
 from ..model.encoder import encoder_resolution_m
 from .errors import InfeasibleMoveError
-from .problem import DEFAULT_OMEGA, DEFAULT_TIME_BOUNDS_S, DEFAULT_W0, Case
-
-REFERENCE_LAWS: tuple[str, ...] = ("bang", "least-energy")
-"""names of the reference laws, as accepted by ``--law``"""
+from .problem import DEFAULT_OMEGA, DEFAULT_TIME_BOUNDS_S, DEFAULT_W0, REFERENCE_LAWS, Case
 
 _DOUBLINGS = 64
 """the cap of the searches that double (or halve) a speed to bracket a root: 2^64 spans any speed"""

@@ -17,9 +17,19 @@ docs/viz.md describes the views, the commands and their measured figures.
 from __future__ import annotations
 
 import importlib
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-_NAMES: dict[str, str] = {
+if TYPE_CHECKING:  # what a type checker sees; at run time __getattr__ loads each name from _HOMES
+    from .blueprint import view_blueprint  # noqa: F401
+    from .entities import AxisEntities  # noqa: F401
+    from .errors import VizError  # noqa: F401
+    from .figures import render_figures, save_figures, write_figures  # noqa: F401
+    from .live_view import LiveView  # noqa: F401
+    from .outputs import RerunOutput, ViewOutput  # noqa: F401
+    from .session import SessionLogs, log_session, write_session_rrd  # noqa: F401
+
+# each public name → its module, relative to this package
+_HOMES: dict[str, str] = {
     "write_session_rrd": "session",
     "SessionLogs": "session",
     "log_session": "session",
@@ -37,10 +47,10 @@ _NAMES: dict[str, str] = {
 
 def __getattr__(name: str) -> Any:
     """Load a public name with its module on first use."""
-    module = _NAMES.get(name)
+    module = _HOMES.get(name)
     if module is None:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
     return getattr(importlib.import_module(f".{module}", __name__), name)
 
 
-__all__ = sorted(_NAMES)
+__all__ = sorted(_HOMES)

@@ -68,8 +68,8 @@ from ..drives.drive import Setpoint
 from ..errors import MoveRejectedError
 from ..wire.messages import APPEND, SAMPLED_LAW, Knots, MoveCommand
 from ..wire.quick_stop import STOP_MOVE_ID
+from .continuity import DEFAULT_JUMP_TOLERANCE_M
 
-DEFAULT_JUMP_TOLERANCE_M = 1e-4
 MAX_QUEUED_MOVES = 1024
 """moves a drive holds at once (running included); more are rejected until some have run"""
 MAX_QUEUED_KNOTS = 2 * MAX_KNOTS

@@ -2,7 +2,7 @@
 
 A plant file is TOML. Its top-level ``profile`` names it (shown by the bridge, the demo and the
 benchmarks); its sections say what the simulated drive does. Three profiles are packaged
-(:data:`PROFILE_RESOURCES`; numbers and sources in docs/plant.md):
+(:data:`~.plant_profiles.PROFILE_RESOURCES`; numbers and sources in docs/plant.md):
 
 * ``ideal`` — eq. (1) of the paper, rigid, with a pulley encoder and white torque noise (the closed-form
   tests rely on it; the default);
@@ -41,15 +41,7 @@ from ...model.drive_units import DriveUnits
 from ...model.params import params_from_mapping
 from ...model.toml_file import read_toml
 from ..errors import PlantError
-
-PROFILE_RESOURCES: dict[str, str] = {
-    "ideal": "plant_ideal.toml",
-    "realistic": "plant_realistic.toml",
-    "warm-up": "plant_warm_up.toml",
-}
-"""the packaged plant file of each profile"""
-DEFAULT_PROFILE = "ideal"
-DEFAULT_PLANT_RESOURCE = PROFILE_RESOURCES[DEFAULT_PROFILE]
+from .plant_profiles import DEFAULT_PLANT_RESOURCE, DEFAULT_PROFILE, PROFILE_RESOURCES
 
 
 def _check(name: str, value: Any, lower: float, upper: float = math.inf, unit: str = "") -> None:

@@ -23,15 +23,12 @@ from mcap.writer import CompressionType, Writer
 
 from ..errors import RecordingError
 from ..wire.messages import SCHEMAS
+from .chunking import COMPRESSION_NAMES, DEFAULT_CHUNK_SIZE
 
 log = logging.getLogger(__name__)
 
-COMPRESSIONS = {"zstd": CompressionType.ZSTD, "lz4": CompressionType.LZ4, "none": CompressionType.NONE}
-DEFAULT_CHUNK_SIZE = 512 * 1024
-"""chunk size before compression. Smaller chunks shorten the recording thread's compression stalls
-(p99 stamp→write at 32 kHz, measured: 2.7 ms with 256 KiB, 4.4 ms with 512 KiB, 26 ms with 4 MiB) at
-the cost of ~3 % larger files and more chunk indexes (kept on disk until the summary, see
-:class:`_ChunkIndexSpill`)."""
+COMPRESSIONS: dict[str, CompressionType] = {name: CompressionType[name.upper()] for name in COMPRESSION_NAMES}
+"""mcap's compression of each name of :data:`~.chunking.COMPRESSION_NAMES`"""
 LIBRARY = f"axisflow {package_version('axisflow')}"
 
 # rosbag2's default QoS for a reliable, volatile, keep-last publisher, as YAML

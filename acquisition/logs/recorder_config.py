@@ -10,8 +10,7 @@ from pathlib import Path
 from ...model.files import OutputError, check_output_file
 from ..errors import RecordingError
 from ..wire.keys import all_keys
-from .mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE
-from .recording_writer import DEFAULT_BACKLOG_BYTES
+from .chunking import COMPRESSION_NAMES, DEFAULT_BACKLOG_BYTES, DEFAULT_CHUNK_SIZE
 
 DEFAULT_QUEUE_CAPACITY = 1 << 16
 """samples Zenoh's receive channel holds before it applies back-pressure (a JointState sample held
@@ -41,8 +40,10 @@ class RecorderConfig:
     """replace existing recordings (``output`` or its split files) instead of refusing to start"""
 
     def __post_init__(self) -> None:
-        if self.compression not in COMPRESSIONS:
-            raise RecordingError(f"compression {self.compression!r} is not one of {', '.join(COMPRESSIONS)}")
+        if self.compression not in COMPRESSION_NAMES:
+            raise RecordingError(
+                f"compression {self.compression!r} is not one of {', '.join(COMPRESSION_NAMES)}"
+            )
         for name, value, unit in (
             ("duration", self.duration_s, "s"),
             ("flush interval", self.flush_interval_s, "s"),

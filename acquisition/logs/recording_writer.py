@@ -56,16 +56,10 @@ from zlib_ng.zlib_ng import crc32
 
 from ..errors import RecordingError
 from ..wire.messages import SCHEMAS
-from .mcap_writer import (
-    COMPRESSIONS,
-    DEFAULT_CHUNK_SIZE,
-    LIBRARY,
-    OFFERED_QOS_PROFILES,
-    _open_exclusive,
-)
+from .chunking import DEFAULT_BACKLOG_BYTES, DEFAULT_CHUNK_SIZE
+from .mcap_writer import COMPRESSIONS, LIBRARY, OFFERED_QOS_PROFILES, _open_exclusive
 
 MAGIC = b"\x89MCAP0\r\n"
-DEFAULT_BACKLOG_BYTES = 256 * 1024 * 1024
 LOSS_METADATA = "axisflow.recording_loss"
 """name of the Metadata record with what the recording lost: ``dropped_messages`` (total dropped by the
 writer), ``backlog_bytes`` (its bound), ``dropped <topic>`` per topic that lost any, and ``missed

@@ -53,8 +53,9 @@ from ..drives.plant import EncoderConfig, TorqueSensorConfig
 from ..errors import RecordingError
 from ..wire.keys import DEFAULT_AXIS, AxisKeys, topic_for_key
 from ..wire.messages import AXIS_JOINTS, JOINT_STATE_TYPE, SCHEMAS, JointState
+from .chunking import DEFAULT_CHUNK_SIZE
 from .joint_state_layout import JointStateLayout
-from .mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE, LIBRARY, OFFERED_QOS_PROFILES
+from .mcap_writer import COMPRESSIONS, LIBRARY, OFFERED_QOS_PROFILES
 
 DEFAULT_START_NS = 1_767_225_600_000_000_000
 """first stamp of a synthetic log: 2026-01-01T00:00:00Z [ns since the Unix epoch]"""

@@ -11,19 +11,12 @@ import threading
 from contextlib import ExitStack
 from typing import TYPE_CHECKING
 
-from ..acquisition.bridge.move_queue import DEFAULT_JUMP_TOLERANCE_M
+from ..acquisition.bridge.continuity import DEFAULT_JUMP_TOLERANCE_M
 from ..acquisition.bus.options import DEFAULT_ENDPOINT, ZenohOptions
-from ..acquisition.drives.plant import (
-    DEFAULT_PROFILE,
-    PROFILE_RESOURCES,
-    PlantConfig,
-    load_plant,
-    load_profile,
-)
-from ..acquisition.wire.drive_info import SIMULATED, DriveInfo
+from ..acquisition.drives.plant_profiles import DEFAULT_PROFILE, PROFILE_RESOURCES
 from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
 from ..arguments import add_params_option, finite_float, params_from_args
-from ..model import EXECUTION_PERIOD_NS, AxisflowError, AxisParams
+from ..model import EXECUTION_PERIOD_NS, AxisflowError
 from ..processes import notify_ready, stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
@@ -31,6 +24,9 @@ if TYPE_CHECKING:
     from ..acquisition.bridge.bridge import BridgeConfig, BridgeReport
     from ..acquisition.drives.canopen.config import DriveConfig
     from ..acquisition.drives.canopen.cycle import CycleReport
+    from ..acquisition.drives.plant import PlantConfig
+    from ..acquisition.wire.drive_info import DriveInfo
+    from ..model import AxisParams
 
 DRIVES = ("sim", "canopen", "canopen-sim")
 
@@ -143,6 +139,8 @@ def _drive_kind(args: argparse.Namespace) -> str:
 
 def _plant(args: argparse.Namespace, params: AxisParams) -> PlantConfig:
     """The plant of the simulated axis or simulated drives: --plant-profile, --plant or the default."""
+    from ..acquisition.drives.plant import load_plant, load_profile
+
     if args.plant_profile is not None:
         return load_profile(args.plant_profile, params)
     return load_plant(args.plant, params)
@@ -187,6 +185,7 @@ def _run_simulated_axis(args: argparse.Namespace, params: AxisParams, options: Z
     from ..acquisition.bridge.bridge import Bridge
     from ..acquisition.bus.session import open_session
     from ..acquisition.drives.sim_axis import SimulatedAxis
+    from ..acquisition.wire.drive_info import SIMULATED, DriveInfo
 
     plant = _plant(args, params)
     config = _bridge_config(args, args.axis, DriveInfo(0, args.axis, SIMULATED, plant.profile, plant.source))
@@ -225,6 +224,7 @@ def _run_canopen(
     from ..acquisition.bus.session import open_session
     from ..acquisition.drives.canopen.master import open_master
     from ..acquisition.drives.canopen.sim_drive import SimulatedDrive
+    from ..acquisition.wire.drive_info import DriveInfo
 
     with ExitStack() as stack:
         if plant is not None:

@@ -7,14 +7,12 @@ import sys
 import time
 from pathlib import Path
 
-from ..acquisition.drives.plant import DEFAULT_PROFILE, PROFILE_RESOURCES
+from ..acquisition.drives.plant_profiles import DEFAULT_PROFILE, PROFILE_RESOURCES
 from ..arguments import finite_float, non_negative_int, positive_int, waypoint_count
-from ..demo import DEFAULT_LOOKAHEAD, DEFAULT_LOOKAHEAD_S, DEFAULT_WAYPOINTS, DemoSettings, run_demo
+from ..demo_settings import DEFAULT_LOOKAHEAD, DEFAULT_LOOKAHEAD_S, DEFAULT_WAYPOINTS, DemoSettings
 from ..model import AxisflowError
-from ..model.files import check_output_dir
 from ..planner import BACKENDS
 from ..processes import stop_on_signals
-from ..table2_record import table_markdown
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -103,6 +101,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..demo import run_demo
+    from ..model.files import check_output_dir
+    from ..table2_record import table_markdown
+
     out = Path(args.out) if args.out else Path("logs") / time.strftime("demo-%Y%m%d-%H%M%S")
     check_output_dir(out)
     if out.exists() and any(out.iterdir()):
@@ -177,6 +179,7 @@ def _adapt(args: argparse.Namespace, out: Path) -> int:
 
 def _run_cell(settings: DemoSettings, axes: int) -> int:
     from ..cell import run_cell_demo
+    from ..table2_record import table_markdown
 
     t0 = time.monotonic()
 

@@ -6,7 +6,7 @@ import argparse
 import sys
 from typing import TYPE_CHECKING
 
-from ..acquisition.drives.canopen.faults import DEFAULT_FAULT_CODE
+from ..acquisition.drives.canopen.emergency import DEFAULT_FAULT_CODE, describe_code
 from ..arguments import add_params_option, finite_float, params_from_args
 from ..model import AxisflowError
 from ..processes import stop_on_signals
@@ -40,7 +40,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="S[:CODE]",
         default=None,
         help=f"raise a fault at S seconds of drive time (0: boot in fault), with the CiA 301 error CODE "
-        f"(hex; default 0x{DEFAULT_FAULT_CODE:04X} continuous over-current)",
+        f"(hex; default {describe_code(DEFAULT_FAULT_CODE)})",
     )
     p.add_argument(
         "--silent-at",

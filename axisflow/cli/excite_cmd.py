@@ -8,7 +8,7 @@ import sys
 
 from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
 from ..arguments import add_params_option, finite_float, params_from_args
-from ..identification.excitation import DEFAULT_DURATION_S, DEFAULT_TORQUE_MARGIN, design_excitation
+from ..identification.excitation import DEFAULT_DURATION_S, DEFAULT_TORQUE_MARGIN
 from ..processes import stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
@@ -57,6 +57,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from ..acquisition.bus.session import open_session
     from ..excite import run_excitation
+    from ..identification.excitation import design_excitation
 
     params = params_from_args(args)
     plan = design_excitation(params, args.duration, args.center, args.torque_margin)

@@ -14,10 +14,7 @@ from ..arguments import (
     finite_float,
     params_from_args,
 )
-from ..experiment import run_offline
-from ..model.files import check_output_dir
 from ..planner import DEFAULT_OMEGA
-from ..table2_record import table_markdown, write_table2
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -51,6 +48,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..experiment import run_offline
+    from ..model.files import check_output_dir
+    from ..table2_record import table_markdown, write_table2
+
     params = params_from_args(args)
     backend = backend_from_args(args)
     out = check_output_dir(args.out)  # a bad --out fails before the run, not after it

@@ -5,19 +5,13 @@ from __future__ import annotations
 import argparse
 import json
 
-from ..acquisition.logs.reader import check_mcap
-from ..acquisition.logs.recorded_axes import choose_axis_of_logs, recorded_axes
 from ..acquisition.wire.keys import DEFAULT_PREFIX
 from ..arguments import add_params_option, finite_float, non_negative_int, params_from_args
 from ..identification.errors import IdentificationError
-from ..identification.extra_terms import ExtraTerms
+from ..identification.extra_terms import DEFAULT_STROKE_TERMS
 from ..identification.fit import PARAMETERS
 from ..identification.preparation import PreparationSettings
-from ..identification.refit import DEFAULT_JOINT, DEFAULT_STROKE_TERMS, DEFAULT_TOPIC, IdentifySettings
-from ..identification.report import report_markdown
-from ..identification.signals import TimeWindow
-from ..identify import REFIT_FILES, identify_to
-from ..model.files import check_distinct_inputs, check_output_files
+from ..identification.signals import DEFAULT_JOINT, DEFAULT_TOPIC
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -148,6 +142,8 @@ def _state_topic(args: argparse.Namespace, logs: list[str]) -> str:
     """The JointState topic to fit: ``--topic``, else the state topic of ``--axis`` (or of the logs'
     only axis) in every log; logs without any axis of ours keep the default topic, whose reading then
     says what is wrong with them."""
+    from ..acquisition.logs.recorded_axes import choose_axis_of_logs, recorded_axes
+
     if args.topic is not None:
         if args.prefix is not None:
             raise IdentificationError(
@@ -162,6 +158,14 @@ def _state_topic(args: argparse.Namespace, logs: list[str]) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..acquisition.logs.reader import check_mcap
+    from ..identification.extra_terms import ExtraTerms
+    from ..identification.refit import IdentifySettings
+    from ..identification.report import report_markdown
+    from ..identification.signals import TimeWindow
+    from ..identify import REFIT_FILES, identify_to
+    from ..model.files import check_distinct_inputs, check_output_files
+
     nominal = params_from_args(args)
     logs = [*args.logs, *args.validate]
     for log in logs:

@@ -5,12 +5,16 @@ from __future__ import annotations
 
 import argparse
 import json
+from typing import TYPE_CHECKING
 
 from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX
 from ..arguments import add_params_option, non_negative_int, params_from_args
-from ..model import AxisParams, ParameterError
+from ..model import ParameterError
 from ..model.parameter_ranges import MAX_MOTOR_SPEED_RAD_S, ranges_table
 from ..model.units import PARAMETER_MEANINGS, PARAMETER_UNITS
+
+if TYPE_CHECKING:
+    from ..model import AxisParams
 
 
 def ranges_epilog() -> str:

@@ -15,10 +15,7 @@ from ..arguments import (
     finite_float,
     params_from_args,
 )
-from ..experiment import LAWS
-from ..model.files import check_output_dir, ensure_dir, write_atomic
-from ..planner.pareto import DEFAULT_OMEGAS, check_omegas, sweep, time_optimal_point
-from ..waypoints import random_waypoints
+from ..paper import LAWS
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -72,10 +69,16 @@ def _plot(data: dict, path: Path) -> None:
     png = io.BytesIO()
     fig.savefig(png, format="png")
     plt.close(fig)
+    from ..model.files import write_atomic
+
     write_atomic(path, png.getvalue())
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..model.files import check_output_dir, ensure_dir, write_atomic
+    from ..planner.pareto import DEFAULT_OMEGAS, check_omegas, sweep, time_optimal_point
+    from ..waypoints import random_waypoints
+
     params = params_from_args(args)
     check_output_dir(args.out)  # a bad --out fails before the sweep, not after it
     laws = tuple(dict.fromkeys(args.law or LAWS))

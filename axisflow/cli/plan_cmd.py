@@ -13,8 +13,7 @@ from ..arguments import (
     finite_float,
     params_from_args,
 )
-from ..planner import DEFAULT_OMEGA, Case, MoveProblem
-from ..planner.reference_laws import REFERENCE_LAWS, plan_reference
+from ..planner import DEFAULT_OMEGA, REFERENCE_LAWS, Case, MoveProblem
 
 POLY_LAWS = ("poly3", "poly5", "poly7")
 
@@ -58,6 +57,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def _reference(args: argparse.Namespace, problem: MoveProblem) -> dict[str, Any]:
+    from ..planner.reference_laws import plan_reference
+
     params = params_from_args(args)
     problem.check_stroke(params)
     plan = plan_reference(

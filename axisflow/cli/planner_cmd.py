@@ -19,11 +19,10 @@ from ..arguments import (
     positive_int,
     waypoint_count,
 )
-from ..experiment import LAWS
 from ..model import AxisflowError
+from ..paper import LAWS
 from ..planner import DEFAULT_OMEGA, Case
 from ..processes import stop_on_signals
-from ..waypoints import load_waypoints, random_waypoints
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 if TYPE_CHECKING:
@@ -111,6 +110,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from ..acquisition.bus.session import open_session
     from ..planner_node import NodeRun, NodeSettings, PlannerNode
+    from ..waypoints import load_waypoints, random_waypoints
 
     params = params_from_args(args)
     points = (

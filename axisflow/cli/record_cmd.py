@@ -6,9 +6,8 @@ import argparse
 import json
 from pathlib import Path
 
-from ..acquisition.logs.mcap_writer import COMPRESSIONS, DEFAULT_CHUNK_SIZE
+from ..acquisition.logs.chunking import COMPRESSION_NAMES, DEFAULT_BACKLOG_BYTES, DEFAULT_CHUNK_SIZE
 from ..acquisition.logs.recorder_config import DEFAULT_QUEUE_CAPACITY, RecorderConfig
-from ..acquisition.logs.recording_writer import DEFAULT_BACKLOG_BYTES
 from ..acquisition.wire.keys import all_keys
 from ..arguments import finite_float, positive_int
 from ..model import AxisflowError
@@ -42,7 +41,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("-o", "--output", required=True, metavar="FILE.mcap", help="output file")
     p.add_argument("--keys", default=all_keys(), metavar="EXPR", help="key expression (default: axisflow/**)")
     p.add_argument("--duration", type=finite_float, default=None, metavar="S", help="record for S seconds")
-    p.add_argument("--compression", choices=sorted(COMPRESSIONS), default="zstd", help="chunk compression")
+    p.add_argument(
+        "--compression", choices=sorted(COMPRESSION_NAMES), default="zstd", help="chunk compression"
+    )
     p.add_argument(
         "--flush-interval",
         type=finite_float,

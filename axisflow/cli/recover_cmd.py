@@ -5,8 +5,6 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..acquisition.logs.recover import recover
-
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
@@ -24,6 +22,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..acquisition.logs.recover import recover
+
     report = recover(args.file, args.output, overwrite=args.overwrite, progress=_show_progress)
     print(report.format())
     return 0

@@ -8,16 +8,7 @@ from pathlib import Path
 
 from ..acquisition.wire.keys import DEFAULT_PREFIX
 from ..arguments import positive_int, tcp_port
-from ..security import (
-    DEFAULT_DAYS,
-    DEFAULT_HOST,
-    DEFAULT_PORT,
-    DEFAULT_ROLES,
-    SecurityPlan,
-    add_roles,
-    init_security,
-    parse_roles,
-)
+from ..security import DEFAULT_DAYS, DEFAULT_HOST, DEFAULT_PORT, DEFAULT_ROLES, SecurityPlan, parse_roles
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -104,6 +95,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run_init(args: argparse.Namespace) -> int:
+    from ..security import init_security
+
     plan = SecurityPlan(
         directory=Path(args.directory),
         prefix=args.prefix,
@@ -119,5 +112,7 @@ def run_init(args: argparse.Namespace) -> int:
 
 
 def run_add(args: argparse.Namespace) -> int:
+    from ..security import add_roles
+
     print(add_roles(Path(args.directory), parse_roles(args.roles), args.days).format())
     return 0

@@ -7,15 +7,14 @@ import json
 import time
 from typing import TYPE_CHECKING
 
-from ..acquisition import MoveState, MoveStatus
 from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
-from ..acquisition.wire.quick_stop import STOP_MOVE_ID
 from ..arguments import finite_float
 from ..model import AxisflowError
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 if TYPE_CHECKING:
     from ..acquisition.bus.move_sender import MoveSender
+    from ..acquisition.wire.move_status import MoveStatus
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -53,6 +52,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from ..acquisition.bus.move_sender import MoveSender
     from ..acquisition.bus.session import open_session
+    from ..acquisition.wire.move_status import MoveState
+    from ..acquisition.wire.quick_stop import STOP_MOVE_ID
 
     if not args.timeout > 0:
         raise AxisflowError(f"--timeout {args.timeout:g} s must be > 0 s")
@@ -84,17 +85,18 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-_RESET_ANSWERS = frozenset({MoveState.ENABLED, MoveState.FAULT, MoveState.COMM_LOST})
-
-
 def _wait_reset(sender: MoveSender, stopped: MoveStatus, timeout_s: float) -> MoveStatus:
     """The bridge's answer to the fault reset: the first ENABLED or FAULT status of move 0 for this
     sender after its stop's STOPPED."""
+    from ..acquisition.wire.move_status import MoveState
+    from ..acquisition.wire.quick_stop import STOP_MOVE_ID
+
+    answers = frozenset({MoveState.ENABLED, MoveState.FAULT, MoveState.COMM_LOST})
     deadline = time.monotonic() + timeout_s
     seen = sender.statuses.index(stopped) + 1
     while True:
         for status in sender.statuses[seen:]:
-            if status.move_id == STOP_MOVE_ID and status.state in _RESET_ANSWERS:
+            if status.move_id == STOP_MOVE_ID and status.state in answers:
                 return status
         seen = len(sender.statuses)
         if time.monotonic() > deadline:

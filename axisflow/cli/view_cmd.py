@@ -7,15 +7,13 @@ import json
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..acquisition.logs.reader import check_mcap
 from ..acquisition.wire.keys import AxisKeys, all_keys
 from ..arguments import add_params_option, finite_float, params_from_args, tcp_port_or_any
-from ..model import AxisParams
-from ..model.files import check_distinct_inputs
 from ..processes import notify_ready, stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 if TYPE_CHECKING:
+    from ..model import AxisParams
     from ..viz.outputs import RerunOutput
 
 # the views (and rerun) are imported when the command runs: other commands start without them
@@ -74,6 +72,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..acquisition.logs.reader import check_mcap
+    from ..model.files import check_distinct_inputs
     from ..viz.errors import VizError
     from ..viz.outputs import RerunOutput, ViewOutput, view_size_estimate
     from ..viz.session import SessionLogs, log_session

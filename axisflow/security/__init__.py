@@ -24,38 +24,60 @@ One concept per module:
 * :mod:`.roles` — the roles, their kinds and what each kind may do (:data:`ROLE_GRANTS`);
 * :mod:`.access_control` — the router's ACL built from the grants, and read back;
 * :mod:`.certificates` — the CA, the router's and the roles' certificates and keys;
+* :mod:`.validity` — how long a certificate is valid (the default and the bound, in days);
 * :mod:`.zenoh_files` — the Zenoh JSON5 files of the router and of a role, written and read;
 * :mod:`.folder` — the folder writer: everything or nothing, exact file modes;
 * :mod:`.plan` — the validated settings of ``security init``;
 * :mod:`.init`, :mod:`.add` — the two operations, ``security init`` and ``security add``;
 * :mod:`.errors` — :class:`SecurityError` and :class:`SecurityArgumentError`.
+
+Each public name is loaded with its module on first use: the command line's parser reads the
+defaults without loading the certificate machinery (cryptography).
 """
 
-from .access_control import acl_config
-from .add import SecurityAdd, add_roles
-from .certificates import DEFAULT_DAYS, MAX_DAYS
-from .errors import SecurityArgumentError, SecurityError
-from .init import SecurityInit, init_security
-from .plan import DEFAULT_HOST, DEFAULT_PORT, SecurityPlan
-from .roles import DEFAULT_ROLES, ROLE_GRANTS, ROUTER, Grant, parse_roles, role_kind
+from __future__ import annotations
 
-__all__ = [
-    "DEFAULT_DAYS",
-    "DEFAULT_HOST",
-    "DEFAULT_PORT",
-    "DEFAULT_ROLES",
-    "MAX_DAYS",
-    "ROLE_GRANTS",
-    "ROUTER",
-    "Grant",
-    "SecurityAdd",
-    "SecurityArgumentError",
-    "SecurityError",
-    "SecurityInit",
-    "SecurityPlan",
-    "acl_config",
-    "add_roles",
-    "init_security",
-    "parse_roles",
-    "role_kind",
-]
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # what a type checker sees; at run time __getattr__ loads each name from _HOMES
+    from .access_control import acl_config  # noqa: F401
+    from .add import SecurityAdd, add_roles  # noqa: F401
+    from .errors import SecurityArgumentError, SecurityError  # noqa: F401
+    from .init import SecurityInit, init_security  # noqa: F401
+    from .plan import DEFAULT_HOST, DEFAULT_PORT, SecurityPlan  # noqa: F401
+    from .roles import DEFAULT_ROLES, ROLE_GRANTS, ROUTER, Grant, parse_roles, role_kind  # noqa: F401
+    from .validity import DEFAULT_DAYS, MAX_DAYS  # noqa: F401
+
+# each public name → its module, relative to this package
+_HOMES: dict[str, str] = {
+    "acl_config": "access_control",
+    "SecurityAdd": "add",
+    "add_roles": "add",
+    "DEFAULT_DAYS": "validity",
+    "MAX_DAYS": "validity",
+    "SecurityArgumentError": "errors",
+    "SecurityError": "errors",
+    "SecurityInit": "init",
+    "init_security": "init",
+    "DEFAULT_HOST": "plan",
+    "DEFAULT_PORT": "plan",
+    "SecurityPlan": "plan",
+    "DEFAULT_ROLES": "roles",
+    "ROLE_GRANTS": "roles",
+    "ROUTER": "roles",
+    "Grant": "roles",
+    "parse_roles": "roles",
+    "role_kind": "roles",
+}
+
+
+def __getattr__(name: str) -> Any:
+    """Load a public name with its module on first use."""
+    module = _HOMES.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(importlib.import_module(f".{module}", __name__), name)
+
+
+__all__ = sorted(_HOMES)

@@ -11,11 +11,12 @@ from pathlib import Path
 
 from ..acquisition.wire.keys import DEFAULT_PREFIX
 from .access_control import acl_config, acl_roles
-from .certificates import CLOCK_SKEW, DEFAULT_DAYS, check_days, issue_role, load_ca
+from .certificates import issue_role, load_ca
 from .errors import SecurityError
 from .folder import PUBLIC_MODE, FolderWriter, WrittenFile, file_lines
 from .init import write_identity
 from .roles import ROUTER, check_roles, how_to_run, role_kind
+from .validity import CLOCK_SKEW, DEFAULT_DAYS, check_days
 from .zenoh_files import check_loads_in_zenoh, client_config, client_endpoint, read_json5, to_json5
 
 

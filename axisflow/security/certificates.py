@@ -3,8 +3,8 @@
 Keys are ECDSA P-256; certificates are X.509 v3 signed with SHA-256. The CA may sign certificates
 only (``path_length=0``); the router's certificate is for server authentication and names its
 address (subject alternative name, which every client verifies), a role's is for client
-authentication. Every certificate is valid from :data:`CLOCK_SKEW` before it is issued (hosts whose
-clocks lag a little) for a number of days, never past the CA's end.
+authentication. Every certificate is valid from :data:`~.validity.CLOCK_SKEW` before it is issued
+(hosts whose clocks lag a little) for a number of days (:mod:`.validity`), never past the CA's end.
 """
 
 from __future__ import annotations
@@ -19,19 +19,8 @@ from cryptography.hazmat.primitives import hashes, serialization
 from cryptography.hazmat.primitives.asymmetric import ec
 from cryptography.x509.oid import ExtendedKeyUsageOID, NameOID
 
-from .errors import SecurityArgumentError, SecurityError
+from .errors import SecurityError
 from .roles import ROUTER
-
-DEFAULT_DAYS = 365
-MAX_DAYS = 3650
-CLOCK_SKEW = dt.timedelta(minutes=5)
-"""certificates are valid from this long before they are issued (hosts whose clocks lag a little)"""
-
-
-def check_days(days: int) -> None:
-    """A validity in 1…:data:`MAX_DAYS` days; else a :class:`SecurityArgumentError`."""
-    if not 1 <= days <= MAX_DAYS:
-        raise SecurityArgumentError(f"validity = {days} days must be in 1…{MAX_DAYS} days")
 
 
 @dataclass(frozen=True)

@@ -7,10 +7,11 @@ import datetime as dt
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .certificates import CLOCK_SKEW, Issued, issue_ca, issue_role, issue_router
+from .certificates import Issued, issue_ca, issue_role, issue_router
 from .folder import PRIVATE_MODE, PUBLIC_MODE, FolderWriter, WrittenFile, check_new_folder, file_lines
 from .plan import SecurityPlan
 from .roles import ROUTER, how_to_run
+from .validity import CLOCK_SKEW
 from .zenoh_files import check_loads_in_zenoh, client_config, router_config, to_json5
 
 

@@ -9,9 +9,9 @@ from pathlib import Path
 from ..acquisition.bus.options import check_host
 from ..acquisition.wire.keys import DEFAULT_PREFIX, all_keys
 from ..arguments import MAX_TCP_PORT
-from .certificates import DEFAULT_DAYS, check_days
 from .errors import SecurityArgumentError
 from .roles import DEFAULT_ROLES, check_roles
+from .validity import DEFAULT_DAYS, check_days
 
 DEFAULT_PORT = 7448
 """the router's TLS port: next to 7447, which the embedded default (plain TCP peers) uses"""

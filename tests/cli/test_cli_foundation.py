@@ -133,7 +133,7 @@ def test_experiment_into_a_file_path_fails_cleanly_and_writes_nothing(tmp_path, 
     def not_before_the_output_is_checked(*_args, **_kwargs):
         raise AssertionError("the experiment ran before its --out was checked")
 
-    monkeypatch.setattr("axisflow.cli.experiment_cmd.run_offline", not_before_the_output_is_checked)
+    monkeypatch.setattr("axisflow.experiment.run_offline", not_before_the_output_is_checked)
     target = tmp_path / "file"
     target.write_text("keep me")
     assert main(["experiment", "--out", str(target), "--waypoints", "3"]) == 2
@@ -148,11 +148,14 @@ def _commands(parser=None, prefix=()):
     import argparse
 
     from axisflow.cli import build_parser
+    from axisflow.cli.bench_cmd import BENCHMARKS, add_benchmark
 
     parser = parser or build_parser()
     for action in parser._actions:
         if isinstance(action, argparse._SubParsersAction):
             for name, sub in action.choices.items():
+                if prefix == ("bench",):  # a benchmark's options load when it is named on the command line
+                    add_benchmark(sub, BENCHMARKS[name])
                 yield (*prefix, name), sub
                 yield from _commands(sub, (*prefix, name))
 

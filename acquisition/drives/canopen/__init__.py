@@ -7,6 +7,7 @@ One concept per module, from the wire up:
 * :mod:`.config` — ``drive.toml`` (the bus and its drives) as validated data;
 * :mod:`.network` — opening a python-can bus under a canopen network;
 * :mod:`.startup` — the master's start-up of a drive over SDO and NMT;
+* :mod:`.emergency` — the CiA 301 emergency codes: names, classes, error register bits;
 * :mod:`.faults` — a drive's health and the typed events it reports;
 * :mod:`.adapter` — :class:`CanopenDrive`, the :class:`~axisflow.acquisition.drives.drive.Drive` of one
   drive; :mod:`.clock` and :mod:`.cycle` — the bus's drive time and the cycle owner (one SYNC for every

@@ -58,7 +58,7 @@ from .cia402 import (
     drive_transition,
 )
 from .config import CanSettings, DriveSettings
-from .faults import DEFAULT_FAULT_CODE, error_register_for
+from .emergency import DEFAULT_FAULT_CODE, error_register_for
 from .network import CanopenNetwork
 from .objects import (
     COMM_CYCLE_PERIOD,

@@ -39,7 +39,7 @@ from ....model.drive_units import DriveUnits
 from ...errors import DriveConfigError, DriveError
 from .cia402 import State, state_of
 from .config import CanSettings, DriveConfig, DriveSettings
-from .faults import describe_code
+from .emergency import describe_code
 from .objects import (
     COMM_CYCLE_PERIOD,
     DEVICE_NAME,

@@ -8,13 +8,7 @@ from axisflow.acquisition.drives.canopen.cia402 import (
     SW_WARNING,
     State,
 )
-from axisflow.acquisition.drives.canopen.faults import (
-    RESET_TIMEOUT_S,
-    Condition,
-    DriveHealth,
-    describe_code,
-    error_register_for,
-)
+from axisflow.acquisition.drives.canopen.faults import RESET_TIMEOUT_S, Condition, DriveHealth
 from axisflow.acquisition.drives.drive import DriveEventKind as K
 
 ENABLED = STATE_BITS[State.OPERATION_ENABLED] | SW_QUICK_STOP
@@ -131,10 +125,3 @@ def test_a_reset_of_a_silent_drive_fails_at_once():
 def test_a_reset_of_a_following_drive_answers_enabled_at_once():
     health, _, _ = _health()
     assert [e.kind for e in health.request_reset()] == [K.ENABLED]
-
-
-def test_codes_are_described_and_their_register_bits_set():
-    assert describe_code(0x8611) == "0x8611 following error"
-    assert describe_code(0x2399) == "0x2399 current"
-    assert describe_code(0x8199) == "0x8199 communication"
-    assert error_register_for(0x2310) == 0x03 and error_register_for(0x8611) == 0x21
