@@ -19,8 +19,9 @@ imported from its module, ``axisflow.acquisition.logs.replay``, whose name it sh
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from ..model import lazy_names
 
 if TYPE_CHECKING:  # what a type checker sees; at run time __getattr__ loads each name from _HOMES
     from .bridge.bridge import Bridge, BridgeConfig, BridgeReport, run_bridge  # noqa: F401
@@ -141,12 +142,7 @@ _HOMES: dict[str, str] = {
 }
 
 
-def __getattr__(name: str) -> Any:
-    """Load a public name with its module on first use."""
-    module = _HOMES.get(name)
-    if module is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    return getattr(importlib.import_module(f".{module}", __name__), name)
+__getattr__ = lazy_names(__name__, _HOMES)
 
 
 __all__ = sorted(_HOMES)

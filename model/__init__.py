@@ -11,6 +11,7 @@ Each public name is loaded with its module on first use, so that importing one m
 from __future__ import annotations
 
 import importlib
+from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # what a type checker sees; at run time __getattr__ loads each name from _HOMES
@@ -106,12 +107,22 @@ _HOMES: dict[str, str] = {
 }
 
 
-def __getattr__(name: str) -> Any:
-    """Load a public name with its module on first use."""
-    module = _HOMES.get(name)
-    if module is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    return getattr(importlib.import_module(f".{module}", __name__), name)
+def lazy_names(package: str, homes: Mapping[str, str]) -> Callable[[str], Any]:
+    """The module ``__getattr__`` of ``package`` that loads each name of ``homes`` (``{name: module}``,
+    the module relative to the package) from its module on first use; any other name is an
+    ``AttributeError``. Every package of axisflow that lists its names this way uses it (here, so that
+    it costs no module of the model: tests/test_package_names.py)."""
+
+    def load(name: str) -> Any:
+        module = homes.get(name)
+        if module is None:
+            raise AttributeError(f"module {package!r} has no attribute {name!r}")
+        return getattr(importlib.import_module(f".{module}", package), name)
+
+    return load
+
+
+__getattr__ = lazy_names(__name__, _HOMES)
 
 
 __all__ = sorted(_HOMES)

@@ -6,8 +6,9 @@ defaults, say) costs that module only.
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from ..model import lazy_names
 
 if TYPE_CHECKING:  # what a type checker sees; at run time __getattr__ loads each name from _HOMES
     from .backend import BACKENDS, PlannerBackend, make_backend  # noqa: F401
@@ -44,12 +45,7 @@ _HOMES: dict[str, str] = {
 }
 
 
-def __getattr__(name: str) -> Any:
-    """Load a public name with its module on first use."""
-    module = _HOMES.get(name)
-    if module is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    return getattr(importlib.import_module(f".{module}", __name__), name)
+__getattr__ = lazy_names(__name__, _HOMES)
 
 
 __all__ = sorted(_HOMES)
