@@ -1,7 +1,7 @@
 """The axis's position encoder: the smallest distance the drive resolves.
 
 The paper measures the cart's position only through the driven pulley's angle. Its encoder (and the
-simulated plant's, acquisition/drives/default_plant.toml) has 2^17 counts per pulley revolution, so
+simulated plant's, acquisition/drives/plant_ideal.toml) has 2^17 counts per pulley revolution, so
 one count is 2π·r/131072 of cart travel: 1.917 µm at the default r = 0.04 m. A move shorter than one
 count cannot be observed by the drive, nor commanded to it in any meaningful way: the planner plans it
 as a zero move (docs/planner.md, "Zero moves").

@@ -38,6 +38,7 @@ from typing import Any
 
 from ...model import AxisflowError, AxisParams
 from ...model.drive_units import DriveUnits
+from ...model.encoder import ENCODER_COUNTS_PER_REV
 from ...model.params import params_from_mapping
 from ...model.toml_file import read_toml
 from ..errors import PlantError
@@ -59,7 +60,7 @@ def _check(name: str, value: Any, lower: float, upper: float = math.inf, unit: s
 class EncoderConfig:
     """The ideal profile's pulley encoder and the drive's velocity estimate."""
 
-    counts_per_rev: int = 131072
+    counts_per_rev: int = ENCODER_COUNTS_PER_REV
     """pulley encoder counts per revolution"""
     velocity_filter_hz: float = 500.0
     """cut-off of the first-order low-pass on the encoder velocity [Hz]"""
