@@ -27,6 +27,10 @@ from .params import AxisParams
 from .sampling import EXECUTION_PERIOD_S
 from .trajectory import SampledTrajectory
 
+QUICK_STOP_FORCE = 0.9
+"""the fraction of the force limit a quick stop brakes with: the bridge's own, and what a CiA 402 drive's
+default quick-stop deceleration assumes (the rest is the drive's margin: the true friction and inertia
+differ from the nominal ones the profile is computed with)"""
 _MAX_STEPS = 1_000_000
 """the cap of the integration: 1000 s of braking at 1 ms steps"""
 _DEADLINE_S = 10.0

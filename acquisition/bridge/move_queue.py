@@ -63,6 +63,7 @@ from ...model import (
     polynomial_law,
     stop_profile,
 )
+from ...model.braking import QUICK_STOP_FORCE
 from ...model.trajectory import MAX_KNOTS
 from ..drives.drive import Setpoint
 from ..errors import MoveRejectedError
@@ -77,9 +78,6 @@ MAX_QUEUED_KNOTS = 2 * MAX_KNOTS
 queued knot costs 80 B (the message's four float64 arrays, 32 B, and the validated trajectory, 48 B,
 as tracemalloc of one queued one-hour path shows), so a full budget costs ~0.58 GB; a sampled move
 that would pass it is rejected until some have run"""
-QUICK_STOP_FORCE = 0.9
-"""the fraction of the force limit a quick stop brakes with (the rest is the drive's margin: the true
-friction and inertia differ from the nominal ones the profile is computed with)"""
 CHECK_POINTS = 1001
 """evenly spaced times at which a move's torque is checked besides the 1 kHz samples"""
 SETPOINT_BLOCK_TICKS = 1024

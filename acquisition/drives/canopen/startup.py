@@ -34,7 +34,7 @@ from canopen.objectdictionary import ObjectDictionary
 from canopen.sdo import SdoAbortedError, SdoCommunicationError
 
 from ....model import AxisParams
-from ....model.braking import braking_acceleration
+from ....model.braking import QUICK_STOP_FORCE, braking_acceleration
 from ....model.drive_units import DriveUnits
 from ...errors import DriveConfigError, DriveError
 from .cia402 import State, state_of
@@ -85,8 +85,6 @@ SDO_ATTEMPTS = 3
 MODE_TIMEOUT_S = 1.0
 """how long the drive may take to show CSP in 0x6061"""
 FAULT_REACTION_QUICK_STOP_RAMP = 2
-QUICK_STOP_FORCE = 0.9
-"""the share of the force limit the default quick-stop deceleration assumes (as the bridge's own)"""
 _ABSENT = {0x06020000, 0x06090011}
 """SDO abort codes: the object / the sub-index does not exist"""
 
