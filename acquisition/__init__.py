@@ -28,7 +28,8 @@ if TYPE_CHECKING:  # what a type checker sees; at run time __getattr__ loads eac
     from .bridge.move_queue import MoveQueue  # noqa: F401
     from .bus.axis_state import AxisState  # noqa: F401
     from .bus.move_sender import MoveSender  # noqa: F401
-    from .bus.session import ZenohOptions, build_config, open_session  # noqa: F401
+    from .bus.options import ZenohOptions  # noqa: F401
+    from .bus.session import build_config, open_session  # noqa: F401
     from .drives.drive import Drive, Setpoint  # noqa: F401
     from .drives.plant import PlantConfig, load_plant, load_profile  # noqa: F401
     from .drives.sim_axis import SimulatedAxis  # noqa: F401
@@ -136,7 +137,7 @@ _HOMES: dict[str, str] = {
     "RecorderConfig": "logs.recorder",
     "RecordSummary": "logs.recorder",
     "ReplayReport": "logs.replay",
-    "ZenohOptions": "bus.session",
+    "ZenohOptions": "bus.options",
     "build_config": "bus.session",
     "open_session": "bus.session",
 }

@@ -34,7 +34,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .acquisition.bus.session import check_endpoint
+from .acquisition.bus.options import check_endpoint
 from .acquisition.wire.keys import DEFAULT_PREFIX, AxisKeys, all_keys, topic_for_key
 from .demo import READY_TIMEOUT_S
 from .demo_settings import DemoSettings

@@ -35,7 +35,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .acquisition.bus.session import check_endpoint
+from .acquisition.bus.options import check_endpoint
 from .acquisition.wire.keys import DEFAULT_PREFIX, AxisKeys, all_keys
 from .model import AxisflowError
 from .model.toml_file import read_toml
