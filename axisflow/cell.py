@@ -36,18 +36,15 @@ from pathlib import Path
 
 from .acquisition.bus.options import check_endpoint
 from .acquisition.wire.keys import DEFAULT_PREFIX, AxisKeys, all_keys, topic_for_key
-from .demo import READY_TIMEOUT_S
 from .demo_settings import DemoSettings
 from .model import AxisflowError, load_params
 from .model.files import write_atomic
-from .processes import Child, Exited, Launcher, free_port
+from .processes import READY_TIMEOUT_S, STOP_TIMEOUT_S, Child, Exited, Launcher, free_port, last_line
 from .table2 import table_from_recording
 from .table2_record import Table2, write_table2
 
 MAX_AXES = 32
 """axes a cell of ``axisflow demo --axes`` may have (one bridge process each, on one machine)"""
-STOP_TIMEOUT_S = 30.0
-"""how long a process of the cell may take to end after SIGINT [s]"""
 PROGRESS_PERIOD_S = 10.0
 """how often the demo says where each axis's planner is [s]"""
 RECORDING = "cell.mcap"
@@ -211,19 +208,14 @@ class Cell:
         for child in (self.router, self.recorder, *self.bridges.values()):
             if child is not None and child.poll() is not None:
                 raise CellError(
-                    f"{child.command} ended with code {child.returncode}: {_last_line(child.stderr_text())}"
+                    f"{child.command} ended with code {child.returncode}: {last_line(child.stderr_text())}"
                 )
 
     def _check(self, end: Exited) -> Exited:
         if end.returncode != 0 or end.timed_out:
             how = "hung and was killed" if end.timed_out else f"exited with code {end.returncode}"
-            raise CellError(f"{end.name} {how}: {_last_line(end.stderr)} (see {self.launcher.logs})")
+            raise CellError(f"{end.name} {how}: {last_line(end.stderr)} (see {self.launcher.logs})")
         return end
-
-
-def _last_line(text: str) -> str:
-    lines = [line for line in text.strip().splitlines() if line.strip()]
-    return lines[-1] if lines else "(no output on stderr)"
 
 
 # ---- axisflow demo --axes N ----------------------------------------------------------------------------
@@ -324,17 +316,17 @@ def _run_planners(
             raise KeyboardInterrupt
         for axis, p in planners.items():
             if p.poll() not in (None, 0):
-                raise CellError(f"the planner of axis {axis} failed: {_last_line(p.stderr_text())}")
+                raise CellError(f"the planner of axis {axis} failed: {last_line(p.stderr_text())}")
         cell.check_alive()
         if time.monotonic() >= next_word:
             next_word += PROGRESS_PERIOD_S
             for axis, p in planners.items():
-                said = "done" if p.poll() == 0 else _last_line(p.stderr_text()).strip()
+                said = "done" if p.poll() == 0 else last_line(p.stderr_text()).strip()
                 progress(f"  {axis}: {said}")
     for axis, p in planners.items():
         end = cell.launcher.wait(p)
         if end.returncode != 0:
-            raise CellError(f"the planner of axis {axis} failed: {_last_line(end.stderr)}")
+            raise CellError(f"the planner of axis {axis} failed: {last_line(end.stderr)}")
         for line in end.stdout.splitlines():
             progress(f"  {axis}: {line.strip()}")
 

@@ -46,13 +46,10 @@ from .model import AxisflowError, AxisParams, load_params
 from .model.files import write_atomic
 from .paper import FIG5_WAYPOINTS, LAWS
 from .planner import DEFAULT_OMEGA, make_backend
-from .processes import Child, Launcher, free_port
+from .processes import READY_TIMEOUT_S, Child, Launcher, free_port
 from .table2 import table_from_recording
 from .table2_record import Table2, write_table2
 from .waypoints import random_waypoints
-
-READY_TIMEOUT_S = 60.0
-"""how long the bridge, or a recorder, may take to start (and the recorder to join) [s]"""
 
 
 @dataclass

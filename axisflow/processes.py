@@ -49,6 +49,9 @@ ORPHAN_GRACE_S = 10.0
 """how long a child whose launcher is gone may take to stop on its own SIGTERM before it exits hard [s]"""
 STOP_TIMEOUT_S = 30.0
 """how long :meth:`Launcher.stop` waits for a child to finish after SIGINT before killing it [s]"""
+READY_TIMEOUT_S = 60.0
+"""how long a launched ``axisflow`` process (a bridge, a recorder, a router…) may take to say it is
+ready on a loaded machine [s]"""
 _READY_BYTE = b"R"
 _SIGNALLED = b"S"
 """what :func:`stop_on_signals`'s handler writes to its relay"""
@@ -332,7 +335,7 @@ class Launcher:
             child.wait()
             raise LaunchError(
                 f"{child.command} exited with code {child.returncode} before it was ready: "
-                f"{_last_line(child.stderr_text())}"
+                f"{last_line(child.stderr_text())}"
             )
         raise LaunchError(f"{child.command} was not ready within {timeout_s:g} s")
 
@@ -340,8 +343,7 @@ class Launcher:
         """A :class:`LaunchError` if ``child`` has exited (naming its code and last error line)."""
         if child.poll() is not None:
             raise LaunchError(
-                f"{child.command} exited early with code {child.returncode}: "
-                f"{_last_line(child.stderr_text())}"
+                f"{child.command} exited early with code {child.returncode}: {last_line(child.stderr_text())}"
             )
 
     def wait(self, child: Child, timeout_s: float = STOP_TIMEOUT_S) -> Exited:
@@ -396,6 +398,7 @@ class Launcher:
         self.close()
 
 
-def _last_line(text: str) -> str:
+def last_line(text: str) -> str:
+    """The last non-blank line of a child's output (what its failure said), for a one-line message."""
     lines = [line for line in text.strip().splitlines() if line.strip()]
     return lines[-1] if lines else "(no output on stderr)"

@@ -56,7 +56,6 @@ GOAL_DRIFT_PCT = 3.0
 """the one-time refit's median |E%| is expected to pass this"""
 PASS_MARGIN = 1.15
 """passes planned beyond the nominal estimate of the axis time (adapted plans are faster)"""
-READY_TIMEOUT_S = 60.0
 LOOKAHEAD_S = 10.0
 """drive time each planner keeps queued (the demo's): at --speed 0 a bridge runs several times real time"""
 TICKER_S = 20.0
@@ -111,7 +110,7 @@ def run(args: argparse.Namespace) -> int:
     from ..identify import identify_to
     from ..model import AxisflowError, default_params, load_params
     from ..model.files import check_output_dir, ensure_dir
-    from ..processes import Launcher, free_port, stop_on_signals
+    from ..processes import READY_TIMEOUT_S, Launcher, free_port, stop_on_signals
     from ..waypoints import random_waypoints
 
     if not (math.isfinite(args.minutes) and 1.0 <= args.minutes <= 600.0):

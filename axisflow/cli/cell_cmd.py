@@ -44,10 +44,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run_up(args: argparse.Namespace) -> int:
-    from ..cell import READY_TIMEOUT_S, CellError
+    from ..cell import CellError
     from ..cell_file import load_cell_file
     from ..model.files import check_output_dir
-    from ..processes import Launcher, notify_ready, stop_on_signals
+    from ..processes import READY_TIMEOUT_S, Launcher, notify_ready, stop_on_signals
 
     cell = load_cell_file(args.file)
     processes = cell.processes(args.machine)

@@ -14,11 +14,8 @@ import zenoh
 from ..acquisition import AxisKeys, MoveState, MoveStatus, ZenohOptions, is_complete, load_plant
 from ..acquisition.bus.readiness import JoinedSubscriber, say_hello
 from ..model import AxisParams, default_params
-from ..processes import Child, Exited, Launcher, free_port, wait_until
+from ..processes import READY_TIMEOUT_S, Child, Exited, Launcher, free_port, wait_until
 from .ticks import KEYS, SETPOINT_TOPIC, STATE_TOPIC, TickRecord, tick_record
-
-READY_TIMEOUT_S = 60.0
-"""how long a recorder or a bridge may take to start [s]"""
 
 
 def rss_mb(pid: int) -> float:
