@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from .model import AxisflowError
+from .model.energy import energy_error_pct
 from .model.files import ensure_dir, write_atomic_files
 
 
@@ -52,9 +53,9 @@ class MoveEnergy:
     @property
     def energy_error_pct(self) -> float | None:
         """E% = (E_th − E_exp)/E_th·100; None without a measured energy or with no planned energy."""
-        if self.energy_measured_j is None or self.energy_planned_j == 0.0:
+        if self.energy_measured_j is None:
             return None
-        return (self.energy_planned_j - self.energy_measured_j) / self.energy_planned_j * 100.0
+        return energy_error_pct(self.energy_planned_j, self.energy_measured_j)
 
     def encode(self) -> dict[str, Any]:
         return asdict(self) | {"energy_error_pct": self.energy_error_pct}

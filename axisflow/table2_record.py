@@ -30,6 +30,7 @@ import numpy as np
 
 from .acquisition import PlanRecord
 from .model import AxisflowError, AxisParams, EnergyAccounting
+from .model.energy import energy_error_pct
 from .model.files import ensure_dir, write_atomic
 from .model.params import FILE_KEYS, params_from_mapping
 from .paper import PAPER_TABLE2, PAPER_WAYPOINTS, PaperRow
@@ -251,9 +252,7 @@ class Table2Row:
             return None
         pairs = zip(self.planned.energies_j, self.measured.energies_j, strict=True)
         e_th = math.fsum(planned for planned, measured in pairs if measured is not None)
-        if not e_th:
-            return None
-        return (e_th - self.measured.energy_measured_j) / e_th * 100.0
+        return energy_error_pct(e_th, self.measured.energy_measured_j)
 
     @property
     def time_limit_ratio(self) -> float | None:

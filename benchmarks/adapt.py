@@ -47,6 +47,8 @@ from typing import Any
 
 import numpy as np
 
+from ..model.energy import energy_error_pct
+
 WAYS = ("nominal", "refit", "adapt")
 LAWS = ("poly3", "poly5", "poly7")
 GOAL_ADAPT_PCT = 1.0
@@ -373,7 +375,7 @@ def _results(recording: Path, out: Path, minutes: float) -> dict[str, Any]:
                     "median_abs_pct": float(np.median(np.abs(e))) if e.size else None,
                     "max_abs_pct": float(np.max(np.abs(e))) if e.size else None,
                     "median_pct": float(np.median(e)) if e.size else None,
-                    "sum_pct": (planned - measured) / planned * 100.0 if planned else None,
+                    "sum_pct": energy_error_pct(planned, measured),
                 }
             )
         medians = np.array(
@@ -409,7 +411,7 @@ def _energy_pass(moves: list[Any]) -> dict[str, Any]:
         "total_time_s": total,
         "energy_planned_j": planned,
         "energy_measured_j": real,
-        "energy_error_pct": (planned - real) / planned * 100.0 if planned else None,
+        "energy_error_pct": energy_error_pct(planned, real),
         "objective_measured": DEFAULT_OMEGA * total + (1.0 - DEFAULT_OMEGA) * real,
         "median_abs_pct": float(np.median([abs(m.energy_error_pct) for m in measured])) if measured else None,
     }

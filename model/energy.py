@@ -112,3 +112,11 @@ def trace_energy_at(
     if p.size < 2:
         return 0.0
     return float(np.dot(np.diff(np.asarray(t_s, dtype=float)), 0.5 * (p[1:] + p[:-1])))
+
+
+def energy_error_pct(planned_j: float, measured_j: float) -> float | None:
+    """The paper's energy error E% = (E_th − E_exp)/E_th·100 of a planned energy E_th and a measured
+    one E_exp [%]; None when nothing was planned (E_th = 0)."""
+    if planned_j == 0.0:
+        return None
+    return (planned_j - measured_j) / planned_j * 100.0

@@ -26,6 +26,7 @@ import numpy as np
 from ..acquisition.wire.move_status import MoveState, MoveStatus
 from ..acquisition.wire.plan_record import PlanRecord
 from ..model import EXECUTION_PERIOD_S, EnergyAccounting, trace_energy
+from ..model.energy import energy_error_pct
 from .samples import AxisSamples
 
 SAMPLE_HISTORY_NS = 2_000_000_000
@@ -171,6 +172,5 @@ class MoveLedger:
         if plan is None or span is None or measured is None or key not in self._planned_done:
             return []
         del self._measured[key]
-        if plan.energy_j == 0.0:
-            return []
-        return [MovePoint(span.end_ns, (plan.energy_j - measured) / plan.energy_j * 100.0, plan.move_id)]
+        error = energy_error_pct(plan.energy_j, measured)
+        return [] if error is None else [MovePoint(span.end_ns, error, plan.move_id)]
