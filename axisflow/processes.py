@@ -130,6 +130,13 @@ def stop_on_signals() -> Iterator[threading.Event]:
         os.close(read_fd)
 
 
+def cpu_seconds(pid: int) -> float:
+    """User + system CPU time process ``pid`` has used so far [s] (Linux ``/proc``; an ``OSError`` once
+    the process is gone)."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
 def _take_fd(name: str) -> int | None:
     """The file descriptor named by environment variable ``name``, removed from the environment (so
     that this process's own children never see a number that means nothing to them)."""

@@ -34,15 +34,14 @@ from pathlib import Path
 
 from axisflow.model import EXECUTION_RATE_HZ
 
-from axisflow.processes import Launcher, free_port
+from axisflow.processes import Launcher, cpu_seconds, free_port
 
-from .pipeline import KEEP_UP_P99_US, analyse_recording, axis_counts, payload_template, play
+from .pipeline import KEEP_UP_P99_US, analyse_recording, axis_counts, failure, payload_template, play
 
 PUBLISHER_ENTRY = "axisflow.benchmarks.cell:publisher_main"
 """the publisher process: ``ENDPOINT MODE AXES SECONDS``"""
 DEFAULT_AXES = "4,8,16,32,48,64,96,128"
 PATHS = ("peer-to-peer", "router")
-_CLK_TCK = os.sysconf("SC_CLK_TCK")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -97,10 +96,9 @@ def publisher_main() -> None:
 def cpu_s(pid: int) -> float:
     """User + system CPU time of process ``pid`` so far [s] (0 once it is gone)."""
     try:
-        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+        return cpu_seconds(pid)
     except OSError:
         return 0.0
-    return (int(fields[11]) + int(fields[12])) / _CLK_TCK
 
 
 def run_step(tmp: Path, n_axes: int, seconds: float, path: str) -> dict:
@@ -149,17 +147,6 @@ def run_step(tmp: Path, n_axes: int, seconds: float, path: str) -> dict:
         "latency_p99_us": a["latency_p99_us"],
         **cpu,
     }
-
-
-def failure(step: dict) -> str:
-    """Why a step does not count ('' if it passes)."""
-    if not step["zero_loss"]:
-        return f"{step['lost']} lost, {step['gaps']} sequence gaps"
-    if not step["keeps_up"]:
-        return f"recorder falls behind (p99 stamp→write {step['latency_p99_us'] / 1e3:.0f} ms)"
-    if not step["on_pace"]:
-        return f"the publisher process could not keep 1 kHz ({step['publisher_wall_s']:.2f} s wall)"
-    return ""
 
 
 # --------------------------------------------------------------------------- the benchmark

@@ -29,7 +29,7 @@ import time
 from pathlib import Path
 
 from axisflow.arguments import finite_float, positive_int
-from axisflow.processes import Launcher, free_port
+from axisflow.processes import Launcher, cpu_seconds, free_port
 
 GOAL_SPEED = 40.0
 GOAL_CPU_US = 50.0
@@ -119,12 +119,6 @@ def raw_publisher_main() -> None:
 # --------------------------------------------------------------------------- helpers
 
 
-def _cpu_s(pid: int) -> float:
-    """User + system CPU seconds of a process so far."""
-    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
-
-
 def _self_cpu_s() -> float:
     t = os.times()
     return t.user + t.system
@@ -146,7 +140,7 @@ def raw_zenoh(tmp: Path, ticks: int) -> dict[str, float]:
         t0 = time.perf_counter()
         cpu = {}
         while pub.poll() is None:
-            cpu = {p.pid: _cpu_s(p.pid) for p in (pub, sub) if p.poll() is None}
+            cpu = {p.pid: cpu_seconds(p.pid) for p in (pub, sub) if p.poll() is None}
             time.sleep(0.05)
         published = launcher.wait(pub)
         received = launcher.wait(sub, 60.0)
@@ -180,10 +174,10 @@ def bridge_at_rest(tmp: Path, seconds: float) -> dict[str, float]:
     with Launcher(tmp / "rest") as launcher:
         # the bridge waits for a consumer: it starts ticking once the recorder has joined
         bridge, rec, _endpoint, out = _start_pair(launcher, tmp, ["--duration", f"{seconds:g}", "--json"])
-        cpu0 = {p.pid: _cpu_s(p.pid) for p in (bridge, rec)}
+        cpu0 = {p.pid: cpu_seconds(p.pid) for p in (bridge, rec)}
         cpu1 = dict(cpu0)
         while bridge.poll() is None:
-            cpu1 = {p.pid: _cpu_s(p.pid) for p in (bridge, rec)}
+            cpu1 = {p.pid: cpu_seconds(p.pid) for p in (bridge, rec)}
             time.sleep(0.05)
         done = launcher.wait(bridge)
         launcher.stop(rec, 60.0)
@@ -219,11 +213,11 @@ def during_moves(tmp: Path, waypoints: int, law: str) -> dict[str, object]:
             open_session(ZenohOptions(connect=(endpoint,))) as session,
             PlannerNode(session, settings, params, make_backend("exact"), lambda _line: None) as node,
         ):
-            cpu0 = {p.pid: _cpu_s(p.pid) for p in (bridge, rec)}
+            cpu0 = {p.pid: cpu_seconds(p.pid) for p in (bridge, rec)}
             self0, t0 = _self_cpu_s(), time.perf_counter()
             reports = node.run(points)
             wall = time.perf_counter() - t0
-            cpu1 = {p.pid: _cpu_s(p.pid) for p in (bridge, rec)}
+            cpu1 = {p.pid: cpu_seconds(p.pid) for p in (bridge, rec)}
             self1 = _self_cpu_s()
         launcher.stop(rec, 60.0)
         launcher.stop(bridge, 30.0)

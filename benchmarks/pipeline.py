@@ -267,12 +267,12 @@ def run(args: argparse.Namespace) -> int:
             step.pop("rss_trace")
             steps.append(step)
             _progress(args, f"{n} axes: lost {step['lost']}, gaps {step['gaps']}")
-            reason = _failure(step)
+            reason = failure(step)
             if reason:
                 result["stopped_by"] = f"{n} axes: {reason}"
                 break
         result["steps"] = steps
-        ok = [s["axes"] for s in steps if not _failure(s)]
+        ok = [s["axes"] for s in steps if not failure(s)]
         result["max_axes_zero_loss"] = max(ok) if ok else 0
 
         # flood: 8 keys, as fast as the recorder takes them
@@ -320,7 +320,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _failure(step: dict) -> str:
+def failure(step: dict) -> str:
     """Why a capacity step does not count ('' if it passes)."""
     if not step["zero_loss"]:
         return f"{step['lost']} lost, {step['gaps']} sequence gaps"
@@ -347,7 +347,7 @@ def _print_table(r: dict) -> None:
             f"{s['axes']:>5} {s['axes'] * 1000:>7} {s['published']:>10} {s['recorded']:>9} {s['lost']:>5} "
             f"{s['gaps']:>5} {s['latency_p50_us']:>10.0f} {s['latency_p99_us']:>10.0f} "
             f"{s['recorder_peak_rss_mb']:>10.1f} {s['publisher_late_ticks']:>10} "
-            f"{'NO' if _failure(s) else 'yes':>5}"
+            f"{'NO' if failure(s) else 'yes':>5}"
         )
     print(
         f"largest axis count with zero loss, keeping up (p99 <= {KEEP_UP_P99_US / 1e3:.0f} ms): "

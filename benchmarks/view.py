@@ -29,7 +29,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from ..processes import Launcher, free_port
+from ..processes import Launcher, cpu_seconds, free_port
 from .pipeline import axis_counts, play
 
 GOAL_HOUR_S = 10.0
@@ -123,12 +123,6 @@ def _wait4(cmd: list[str], env: dict[str, str] | None = None) -> dict:
         }
 
 
-def _cpu_seconds(pid: int) -> float:
-    """CPU time [s] (user + system) a running process has used so far (Linux /proc)."""
-    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
-
-
 def _rrd_rows(path: Path) -> dict[str, int]:
     """Temporal rows per entity of an .rrd (rerun's RrdReader)."""
     from rerun.chunk import RrdReader
@@ -219,7 +213,7 @@ def _live_step(args: argparse.Namespace, tmp: Path, n_axes: int) -> dict:
         )
         if pub.returncode != 0:
             raise RuntimeError(f"the publisher failed: {pub.stderr[-2000:]}")
-        cpu_s = _cpu_seconds(view.pid)
+        cpu_s = cpu_seconds(view.pid)
         viewed = launcher.stop(view, 60.0)  # its stop proves the publisher's last samples arrived
     out, err = viewed.stdout, viewed.stderr
     if viewed.returncode != 0:

@@ -1,11 +1,11 @@
 """Command-line behaviour: commands exit (no hang), user errors exit 2 without a traceback."""
 
 import json
-import os
 import time
-from pathlib import Path
 
 import pytest
+
+from axisflow.processes import cpu_seconds
 
 
 @pytest.mark.slow
@@ -40,9 +40,9 @@ def test_a_bridge_at_speed_0_waits_while_nobody_subscribes(cli, port):
         "bridge", "--sim", "--speed", "0", "--listen", f"tcp/127.0.0.1:{port}", "--json", ready=True
     )
     cli.wait_ready(bridge)
-    busy = _cpu_seconds(bridge.pid)
+    busy = cpu_seconds(bridge.pid)
     time.sleep(1.0)  # measuring an interval of idleness: there is no event to wait for
-    assert _cpu_seconds(bridge.pid) - busy < 0.2  # a spinning loop takes ~1 s of CPU a second
+    assert cpu_seconds(bridge.pid) - busy < 0.2  # a spinning loop takes ~1 s of CPU a second
     with (
         open_session(ZenohOptions.loopback(connect_port=port)) as session,
         AxisState(session, AxisKeys(), "setpoint") as setpoint,
@@ -53,12 +53,6 @@ def test_a_bridge_at_speed_0_waits_while_nobody_subscribes(cli, port):
     out, err = cli.finish(bridge)
     assert bridge.returncode == 0, err
     assert json.loads(out)["ticks"] >= 1000
-
-
-def _cpu_seconds(pid: int) -> float:
-    """User + system CPU time of a process [s] (Linux /proc)."""
-    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
 @pytest.mark.slow
