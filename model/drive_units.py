@@ -141,9 +141,11 @@ class DriveUnits:
         return _clamp(steps + self.zero_counts, INT32_MIN, INT32_MAX)
 
     def encoder_counts(self, position_m: float) -> int:
-        """The count an incremental encoder shows at ``position_m`` [m]: the one at or below it (scalar,
-        for a simulated drive's 1 kHz loop; :meth:`quantise_position` is the array form)."""
-        return _clamp(math.floor(position_m / self.metres_per_count) + self.zero_counts, INT32_MIN, INT32_MAX)
+        """The count an incremental encoder shows at ``position_m`` [m]: the one at or below it in the
+        encoder's own direction (scalar, for a simulated drive's 1 kHz loop; :meth:`quantise_position`
+        is the array form for ``direction`` +1)."""
+        steps = math.floor(self.direction * position_m / self.metres_per_count)
+        return _clamp(steps + self.zero_counts, INT32_MIN, INT32_MAX)
 
     def counts_per_s(self, velocity_m_s: float) -> int:
         """The velocity [counts/s] nearest to ``velocity_m_s`` [m/s]."""

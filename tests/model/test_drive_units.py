@@ -97,3 +97,14 @@ def test_the_encoder_count_is_the_one_at_or_below_the_position():
         counts = UNITS.encoder_counts(x)
         assert UNITS.position_m(counts) <= x < UNITS.position_m(counts + 1) + 1e-15
         assert UNITS.position_m(counts) == pytest.approx(UNITS.quantise_position(x), abs=1e-15)
+
+
+def test_a_reversed_encoder_counts_the_other_way_and_reads_back_within_a_count():
+    reversed_units = DriveUnits.for_axis(
+        PARAMS, counts_per_rev=131072, rated_torque_nm=2.0, zero_counts=1000, direction=-1
+    )
+    step = reversed_units.metres_per_count
+    for x in (0.0, 0.1234567, -0.0314, 0.8 - 1e-9):
+        counts = reversed_units.encoder_counts(x)
+        assert counts == reversed_units.counts(x) or abs(counts - reversed_units.counts(x)) == 1
+        assert x - 1e-15 <= reversed_units.position_m(counts) < x + step  # the count at or below, reversed
