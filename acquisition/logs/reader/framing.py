@@ -77,8 +77,6 @@ MESSAGE_HEAD = np.dtype(
 _CHUNK_FIXED = struct.Struct("<QQQII")  # start, end, uncompressed_size, crc, compression length
 _U64 = struct.Struct("<Q")
 _U16 = struct.Struct("<H")
-COMPRESSIONS = ("zstd", "lz4", "")
-"""the chunk compressions read (as the Chunk record names them; "" is none)"""
 
 
 class ChunkError(Exception):
