@@ -31,7 +31,7 @@ import numpy as np
 from .acquisition import PlanRecord
 from .model import AxisflowError, AxisParams, EnergyAccounting
 from .model.energy import energy_error_pct
-from .model.files import ensure_dir, write_atomic
+from .model.files import ensure_dir, write_atomic_files
 from .model.params import FILE_KEYS, params_from_mapping
 from .paper import PAPER_TABLE2, PAPER_WAYPOINTS, PaperRow
 from .planner import Case, PlanResult
@@ -422,12 +422,13 @@ class Table2:
 
 def write_table2(table: Table2, folder: str | Path, stem: str = "table2") -> tuple[Path, Path]:
     """``table`` as ``STEM.json`` (:meth:`Table2.encode`) and ``STEM.md`` (:func:`table_markdown`) in
-    ``folder``, created if needed, each written atomically; returns the two paths."""
-    out = ensure_dir(folder)
-    return (
-        write_atomic(out / f"{stem}.json", json.dumps(table.encode(), indent=1, allow_nan=False) + "\n"),
-        write_atomic(out / f"{stem}.md", table_markdown(table)),
-    )
+    ``folder``, created if needed, written atomically together; returns the two paths."""
+    files = {
+        f"{stem}.json": json.dumps(table.encode(), indent=1, allow_nan=False) + "\n",
+        f"{stem}.md": table_markdown(table),
+    }
+    json_path, md_path = write_atomic_files(ensure_dir(folder), files)
+    return json_path, md_path
 
 
 def read_table2(path: str | Path) -> Table2:
