@@ -16,6 +16,7 @@ import importlib
 import logging
 import os
 import sys
+import threading
 import warnings
 from collections.abc import Callable, Sequence
 from typing import NoReturn, TextIO
@@ -127,7 +128,11 @@ def _os_error_line(exc: OSError) -> str:
 
 
 def _warning_printer(command: str, fallback: Callable[..., None]) -> Callable[..., None]:
-    """A ``warnings.showwarning`` that prints axisflow's warnings as one line each (others as usual)."""
+    """A ``warnings.showwarning`` that prints axisflow's warnings as one line each (others as usual).
+
+    Readers warn from several threads at once: each line goes out in one write under a lock, so two
+    warnings never run together into one line."""
+    lock = threading.Lock()
 
     def show(
         message: Warning | str,
@@ -138,7 +143,9 @@ def _warning_printer(command: str, fallback: Callable[..., None]) -> Callable[..
         line: str | None = None,
     ) -> None:
         if issubclass(category, AxisflowWarning):
-            print(f"axisflow {command}: warning: {message}", file=sys.stderr, flush=True)
+            with lock:
+                sys.stderr.write(f"axisflow {command}: warning: {message}\n")
+                sys.stderr.flush()
         else:
             fallback(message, category, filename, lineno, file, line)
 

@@ -216,3 +216,31 @@ def test_an_experiment_row_with_zero_moves_compares_the_rest_with_the_limit():
     assert row.planned.total_time_s == row.planned.durations_s[2]
     assert row.limits is not None and row.limits.time_limits_s[:2] == (0.0, 0.0)
     assert row.time_limit_ratio is not None and row.time_limit_ratio > 1.0
+
+
+def test_warnings_from_many_threads_each_arrive_as_one_line(capfd):
+    """Readers warn from several threads at once; no two warnings may run together into one line."""
+    import threading
+    import warnings
+
+    from axisflow.model.errors import AxisflowWarning
+
+    from axisflow.cli import _warning_printer
+
+    show = _warning_printer("view", warnings.showwarning)
+    start = threading.Barrier(8)
+
+    def warn(thread: int) -> None:
+        start.wait()
+        for k in range(300):
+            show(AxisflowWarning(f"thread {thread} warning {k} {'x' * 200}"), AxisflowWarning, "f.py", 1)
+
+    threads = [threading.Thread(target=warn, args=(n,)) for n in range(8)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    lines = capfd.readouterr().err.splitlines()
+    tail = " " + "x" * 200
+    expected = {f"axisflow view: warning: thread {n} warning {k}{tail}" for n in range(8) for k in range(300)}
+    assert len(lines) == len(expected) and set(lines) == expected
