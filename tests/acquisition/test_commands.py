@@ -63,6 +63,7 @@ def test_bridge_with_default_zenoh_config_exits_even_when_7447_is_taken(cli):
     import socket
 
     holder = socket.socket()
+    holder.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)  # a closed earlier holder may linger
     try:
         holder.bind(("127.0.0.1", 7447))
         holder.listen()

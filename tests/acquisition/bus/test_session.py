@@ -20,6 +20,7 @@ def test_embedded_default_is_loopback_peer_without_multicast():
     assert _get(c, "scouting/multicast/enabled") is False
     assert _get(c, "listen/endpoints") == ["tcp/127.0.0.1:7447", "tcp/127.0.0.1:0"]
     assert _get(c, "connect/endpoints") == ["tcp/127.0.0.1:7447"]
+    assert _get(c, "transport/unicast/open_timeout") == 2000  # zenoh's own default: 10 000
 
 
 def test_flags_override_and_listen_stays_on_loopback():
