@@ -38,6 +38,30 @@ import rerun.blueprint as rrb
 from ..model.files import OutputError, atomic_path, check_output_file
 from .errors import VizError
 
+
+def _quiet_half_built_streams(previous: Any) -> Any:
+    """A ``sys.unraisablehook`` that drops one message and passes on the rest.
+
+    rerun wraps its native streams in :class:`rerun.RecordingStream` objects as it goes (``__new__``,
+    then ``inner`` set); a Ctrl-C or SIGTERM that lands between the two leaves a wrapper without
+    ``inner``, whose ``__del__`` then prints a traceback ("Exception ignored in … no attribute
+    'inner'") under the command's clean one-line stop. Such a wrapper holds nothing to flush."""
+
+    def hook(unraisable: Any) -> None:
+        exc = unraisable.exc_value
+        if (
+            isinstance(exc, AttributeError)
+            and getattr(exc, "name", None) == "inner"
+            and getattr(unraisable.object, "__qualname__", "") == "RecordingStream.__del__"
+        ):
+            return
+        previous(unraisable)
+
+    return hook
+
+
+sys.unraisablehook = _quiet_half_built_streams(sys.unraisablehook)
+
 APPLICATION_ID = "axisflow_view"
 LOOPBACK = "127.0.0.1"
 VIEWER_START_TIMEOUT_S = 20.0
