@@ -11,19 +11,23 @@ from axisflow.processes import cpu_seconds
 @pytest.mark.slow
 def test_record_and_bridge_exit_on_their_own(cli, tmp_path, port):
     """A recorder with --duration and a bridge with --duration each end by themselves (a command that
-    hangs at exit fails the test); the bridge at speed 0 runs as fast as its consumer, the recorder."""
-    rec = cli.start(
-        "record", "-o", str(tmp_path / "x.mcap"), "--listen", f"tcp/127.0.0.1:{port}", "--duration", "20",
+    hangs at exit fails the test); the bridge at speed 0 waits for its consumer, the recorder, and then
+    runs as fast as it takes the samples."""
+    bridge = cli.start(
+        "bridge", "--sim", "--listen", f"tcp/127.0.0.1:{port}", "--duration", "0.5", "--speed", "0", "--json",
         ready=True,
     )  # fmt: skip
-    cli.wait_ready(rec)
-    bridge = cli.run(
-        "bridge", "--sim", "--connect", f"tcp/127.0.0.1:{port}", "--duration", "0.5", "--speed", "0", "--json"
-    )
-    assert bridge.returncode == 0, bridge.stderr
-    assert json.loads(bridge.stdout)["ticks"] == 500
-    out, err = cli.finish(rec, timeout=60)  # fails the test if the recorder hangs at exit
-    assert "recorded" in out, err
+    cli.wait_ready(bridge)
+    recording = tmp_path / "x.mcap"
+    rec = cli.run("record", "-o", str(recording), "--connect", f"tcp/127.0.0.1:{port}", "--duration", "4")
+    assert rec.returncode == 0, rec.stderr  # fails the test if the recorder hangs at exit
+    assert "recorded" in rec.stdout, rec.stderr
+    out, err = cli.finish(bridge, timeout=60)  # fails the test if the bridge hangs at exit
+    assert bridge.returncode == 0, err
+    assert json.loads(out)["ticks"] == 500
+    from axisflow.acquisition import read_joint_states
+
+    assert len(read_joint_states(recording, "/axisflow/a0/state")) == 500  # the bridge waited for it
 
 
 def test_a_bridge_at_speed_0_waits_while_nobody_subscribes(cli, port):
