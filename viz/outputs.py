@@ -23,6 +23,7 @@ import socket
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 import uuid
 from collections.abc import Sequence
@@ -66,6 +67,8 @@ APPLICATION_ID = "axisflow_view"
 LOOPBACK = "127.0.0.1"
 VIEWER_START_TIMEOUT_S = 20.0
 _STOP_TIMEOUT_S = 5.0
+FLUSH_TIMEOUT_S = 60.0
+"""how long the final flush may take [s]: rerun's own default waits for ever"""
 MIN_FREE_BYTES = 16 * 2**20
 """room an .rrd needs before a view starts [bytes]: rerun's file writer that fails on its first write
 makes ``set_sinks`` never return, so the room is checked up front; a writer that fails later makes
@@ -250,11 +253,15 @@ class RerunOutput:
         self._cleanup(success=exc_type is None)
 
     def _cleanup(self, success: bool) -> None:
+        start = time.monotonic()
         try:
-            self.rec.flush()
+            self.rec.flush(timeout_sec=FLUSH_TIMEOUT_S)
             self.rec.disconnect()
         except RuntimeError as exc:  # rerun's writer stopped (measured: a file-size limit, EFBIG)
             success = False
+            if time.monotonic() - start >= FLUSH_TIMEOUT_S:  # the writer hangs rather than died
+                exc.__traceback__ = None  # its frames hold the stream: let it go with the stream
+                self._abandon_stream()
             rrd = self.output.rrd
             raise OutputError(
                 f"rerun could not finish the view: {str(exc).rstrip('.')} (its own log line above says "
@@ -272,6 +279,19 @@ class RerunOutput:
                     file.__exit__(None, None, None)
                 else:
                     file.__exit__(VizError, VizError("view not finished"), None)
+
+    def _abandon_stream(self) -> None:
+        """Let go of a stream whose file writer does not answer, without waiting for it.
+
+        Measured with a file-size limit, on a loaded machine: now and then rerun's writer thread stops
+        in a state where a flush, dropping the stream, or rerun's own shutdown at exit waits for ever
+        for an answer the writer will never give. The stream is dropped on a daemon thread instead (if
+        that waits, the process ends anyway) and rerun's shutdown at exit is not run; nothing of this
+        stream is kept."""
+        holder = [self.rec]
+        del self.rec
+        rr.unregister_shutdown()
+        threading.Thread(target=holder.clear, name="rerun-stream-drop", daemon=True).start()
 
     def _spawn_viewer(self) -> str:
         port = _free_port()

@@ -134,7 +134,9 @@ def _view_under_a_file_size_limit(log, rrd, limit: int, precheck: bool = True):
         + (
             ""
             if precheck
+            # the flush's timeout shortened too: now and then rerun's writer stops without an answer
             else "import axisflow.viz.outputs as o; o.MIN_FREE_BYTES = o.RRD_BYTES_PER_LOG_BYTE = 0; "
+            "o.FLUSH_TIMEOUT_S = 5.0; "
         )
         + "from axisflow.cli import main; sys.exit(main())"
     )
@@ -171,7 +173,10 @@ def test_a_view_whose_writer_fails_is_one_line_exit_2_and_leaves_no_file(test_lo
     done = _view_under_a_file_size_limit(test_log.path, out / "v.rrd", 200_000, precheck=False)
     assert done.returncode == 2, done.stderr
     line = _our_error_line(done.stderr)
-    assert "rerun could not finish the view: File-writer thread shut down prematurely" in line
+    # the writer's death, or (now and then, on a loaded machine) its silence
+    assert re.search(
+        "rerun could not finish the view: (File-writer thread shut down prematurely|Flush timed out)", line
+    )
     assert "v.rrd was not written" in line
     assert list(out.iterdir()) == []
 
