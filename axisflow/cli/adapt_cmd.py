@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import threading
 
 from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX
 from ..arguments import add_params_option, finite_float
@@ -79,7 +80,7 @@ def run(args: argparse.Namespace) -> int:
     from ..adapt_node import AdaptNode
     from ..arguments import params_from_args
     from ..identification.errors import IdentificationError
-    from ..identification.online import Adapter, AdaptSettings
+    from ..identification.online import Adapter, AdaptSettings, load_fit_libraries
     from ..processes import notify_ready, stop_on_signals
 
     if args.duration is not None and not args.duration > 0.0:
@@ -94,6 +95,9 @@ def run(args: argparse.Namespace) -> int:
         torque_delay_s=args.torque_delay,
     )
     adapter = Adapter(keys.axis, params, settings)
+    # scipy and CasADi load while the node joins and fills its first window: left to the first step,
+    # their import would hold the sample intake for a second or more
+    threading.Thread(target=load_fit_libraries, name="load-fit-libraries", daemon=True).start()
 
     def progress(record: ParamsEstimate) -> None:
         print(f"{args.axis} version {record.version}: {record.reason}", file=sys.stdout, flush=True)

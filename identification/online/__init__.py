@@ -16,7 +16,7 @@ bus; tests and benchmarks can feed it from anything.
 from __future__ import annotations
 
 from .acceptance import AcceptanceRules, Verdict, WindowFacts
-from .adapter import Adapter, AdaptSettings
+from .adapter import Adapter, AdaptSettings, load_fit_libraries
 from .drift_fit import COULOMB, DEFAULT_TERMS, DriftFit, check_terms, fit_drift
 from .ring import SampleRing
 from .window import window_signals
@@ -33,5 +33,6 @@ __all__ = [
     "WindowFacts",
     "check_terms",
     "fit_drift",
+    "load_fit_libraries",
     "window_signals",
 ]

@@ -31,6 +31,7 @@ not, with the reason — for the caller to publish.
 from __future__ import annotations
 
 import dataclasses
+import importlib
 import math
 from dataclasses import dataclass, field
 
@@ -61,6 +62,15 @@ DELAY_WINDOWS = 10
 """windows the offset is estimated on at most (without overlap) before it is held at 0 as unresolvable"""
 RING_RATE_HZ = 1000.0
 """the sample rate the ring is sized for (the drives' 1 kHz); a slower drive fills it more slowly"""
+
+
+def load_fit_libraries() -> None:
+    """Import what a step imports on first use (scipy's filters and optimiser, CasADi). A node that
+    leaves it to its first step holds its sample intake for the second or more the imports take (tens
+    of seconds of drive time from a fast simulated bridge); ``axisflow adapt`` loads them while it
+    joins and takes the first window's samples."""
+    for name in ("scipy.signal", "scipy.optimize", "casadi"):
+        importlib.import_module(name)
 
 
 def _preparation() -> PreparationSettings:
