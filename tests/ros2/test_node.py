@@ -229,11 +229,13 @@ def latest(statuses: list[Status], kind: str) -> Status | None:
     return mine[-1] if mine else None
 
 
-def start_axis(cli, port: int, *node_args: str):
-    """A simulated axis's bridge and its ROS 2 node, both ready: started
+def start_axis(cli, port: int, *node_args: str, speed: float = 1.0):
+    """A simulated axis's bridge (at ``speed`` × real time) and its ROS 2 node, both ready: started
     together, the node's session connects to the bridge once the bridge listens (a session that must
     connect retries: :mod:`axisflow.acquisition.bus.session`)."""
-    bridge = cli.start("bridge", "--sim", "--listen", f"tcp/127.0.0.1:{port}", ready=True)
+    bridge = cli.start(
+        "bridge", "--sim", "--speed", f"{speed:g}", "--listen", f"tcp/127.0.0.1:{port}", ready=True
+    )
     node = cli.start(
         "ros2", "--axis", "a0", "--connect", f"tcp/127.0.0.1:{port}", "--json", *node_args, ready=True
     )
@@ -305,7 +307,8 @@ def test_inside_every_sample_reaches_a_subscriber_and_diagnostics_follow_the_bri
 def test_inside_the_samples_are_decimated_to_the_rate_on_the_drive_clock(cli, port, ros):
     assert private_network.interfaces() == ["lo"]
     states = ros.joint_states()
-    _bridge, node = start_axis(cli, port, "--rate", "100")
+    # the drive's clock runs at 4× real time: the node decimates on it, not on the wall clock
+    _bridge, node = start_axis(cli, port, "--rate", "100", speed=4)
     ros.spin_until(lambda: len(states) >= 200, 60, "200 JointState messages at 100 Hz")
     node.send_signal(signal.SIGINT)
     out, _err = cli.finish(node, 60)
@@ -341,8 +344,9 @@ def test_inside_trajectories_arrive_when_asked_are_refused_when_too_fast_and_sto
     publisher = ros.node.create_publisher(JointTrajectory, "/axisflow/a0/joint_trajectory", 10)
     quick_stop = ros.client("/axisflow/a0/quick_stop")
     # 100 Hz is plenty to watch moves (the bridge's statuses give the exact ticks), and lets this
-    # process's subscriber keep up on a machine that others load
-    _bridge, node = start_axis(cli, port, "--rate", "100")
+    # process's subscriber keep up on a machine that others load; every duration checked is one of
+    # drive time (ticks, stamps), which runs at 4× real time
+    _bridge, node = start_axis(cli, port, "--rate", "100", speed=4)
     ros.spin_until(lambda: publisher.get_subscription_count() >= 1, 30, "the node's trajectory subscription")
     ros.spin_until(lambda: len(states) > 0, 30, "a JointState")
     keys = AxisKeys("a0")
@@ -382,7 +386,8 @@ def test_inside_trajectories_arrive_when_asked_are_refused_when_too_fast_and_sto
         and refusal.values["trajectories refused"] == "1"
     )
 
-    # slow (30 s), so that the quick stop comes while it moves, however late this process sees it
+    # slow (30 s of drive time, 7.5 s here), so that the quick stop comes while it moves, however late
+    # this process sees it
     since = len(diagnostics)
     publisher.publish(trajectory((0.75, 30.0)))
 
