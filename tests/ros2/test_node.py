@@ -62,6 +62,8 @@ PEER_PROFILE = """<?xml version="1.0" encoding="UTF-8" ?>
 (the node's) learns of it from such an announcement, unless it happens to catch the answer to its own
 first ones; that way, the test's subscriptions are matched while the processes start, not seconds
 later"""
+FAULT_AT_S = 3.0
+"""when the simulated drive faults [s of drive time]: the node must have seen it OK by then"""
 
 
 @pytest.mark.slow
@@ -421,25 +423,35 @@ def test_inside_a_drive_fault_is_an_error_on_diagnostics_until_the_reset_service
     assert private_network.interfaces() == ["lo"]
     config = tmp_path / "drive.toml"
     config.write_text(CANOPEN_CONFIG)
-    drive = cli.start("drive-sim", "--drive-config", str(config), "--fault-at", "15:4310")
+    diagnostics = ros.diagnostics()
+    reset_fault = ros.client("/axisflow/a0/reset_fault")
+    # the node first (it listens; the bridge connects to it): it watches the bridge from its first
+    # tick, so that it sees the drive follow setpoints before the fault, FAULT_AT_S of drive time
+    # after the master made it operational
+    drive = cli.start("drive-sim", "--drive-config", str(config), "--fault-at", f"{FAULT_AT_S:g}:4310")
+    node = cli.start("ros2", "--axis", "a0", "--listen", f"tcp/127.0.0.1:{port}", ready=True)
     booted = lambda: "booted (pre-operational)" in drive.stderr_text()  # noqa: E731
     assert wait_until(booted, 60), f"the simulated drive did not boot: {drive.stderr_text()[-2000:]}"
+    cli.wait_ready(node, 90)
     bridge = cli.start(
-        "bridge", "--drive-config", str(config), "--listen", f"tcp/127.0.0.1:{port}", ready=True
+        "bridge", "--drive-config", str(config), "--connect", f"tcp/127.0.0.1:{port}", ready=True
     )
     cli.wait_ready(bridge, 120)
-    node = cli.start("ros2", "--axis", "a0", "--connect", f"tcp/127.0.0.1:{port}", ready=True)
-    cli.wait_ready(node, 90)
-    diagnostics = ros.diagnostics()
-    ros.spin_until(lambda: latest(diagnostics, "drive") is not None, 15, "the drive's diagnostics")
+    # STALE (no bridge, then no sample yet) until the samples flow: then OK, or already the fault
+    ros.spin_until(
+        lambda: latest(diagnostics, "drive") is not None and latest(diagnostics, "drive").level < 3,
+        30,
+        "the drive's diagnostics with the bridge running",
+    )
     assert latest(diagnostics, "drive").level == 0, (
-        "the drive faulted before the node was up: start it sooner"
+        f"the node did not see the drive follow setpoints before the fault at {FAULT_AT_S:g} s of drive "
+        f"time (raise it later): {latest(diagnostics, 'drive')}"
     )
     ros.spin_until(lambda: latest(diagnostics, "drive").level == 2, 120, "the drive's fault as an ERROR")
     fault = latest(diagnostics, "drive")
     assert fault.hardware_id == "a0" and "drive temperature too high" in fault.message
     assert (fault.values["last drive event"], fault.values["error_code"]) == ("FAULT", "0x4310")
-    answer = ros.call(ros.client("/axisflow/a0/reset_fault"))
+    answer = ros.call(reset_fault)
     assert answer.success and "operation enabled" in answer.message, answer.message
     ros.spin_until(lambda: latest(diagnostics, "drive").level == 0, 15, "the drive OK again")
     assert latest(diagnostics, "drive").values["last drive event"] == "ENABLED"
