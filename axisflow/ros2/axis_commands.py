@@ -72,6 +72,8 @@ class AxisCommands:
         self._queued_end_m: float | None = None
         """where this node's queued moves leave the axis (None: none queued)"""
         self._bridge_ready = False
+        self._unread: list[MoveStatus] = []
+        """statuses polled with an answer and after it: the next answer may be among them"""
 
     # ---- trajectories --------------------------------------------------------------------------------
     def submit(self, request: TrajectoryRequest) -> SentTrajectory:
@@ -176,6 +178,7 @@ class AxisCommands:
         this sender (where and when the axis came to rest); ``poll`` gives the statuses that arrive."""
         self._require_live_bridge()
         poll()  # what arrived before the request is not its answer
+        self._unread = []
         self.sender.stop(reason)
         return self._answer(poll, {MoveState.STOPPED}, "confirm the quick stop", timeout_s)
 
@@ -186,6 +189,7 @@ class AxisCommands:
         setpoints again), or FAULT / COMM_LOST (the reset did not clear it)."""
         self._require_live_bridge()
         poll()
+        self._unread = []
         self.sender.stop("ROS 2 reset_fault", reset_fault=True)
         self._answer(poll, {MoveState.STOPPED}, "confirm the quick stop of the fault reset", timeout_s)
         return self._answer(poll, _RESET_ANSWERS, "answer the fault reset", timeout_s)
@@ -203,9 +207,13 @@ class AxisCommands:
     ) -> MoveStatus:
         deadline = time.monotonic() + timeout_s
         mine = self.sender.sender_id
+        unread, self._unread = self._unread, []
         while time.monotonic() < deadline:
-            for status in poll():
+            batch = unread + poll()
+            unread = []
+            for k, status in enumerate(batch):
                 if status.move_id == STOP_MOVE_ID and status.sender == mine and status.state in states:
+                    self._unread = batch[k + 1 :]  # a reset's answer may come in one poll with its stop's
                     return status
             time.sleep(0.002)
         raise Ros2Error(f"the bridge of axis {self.sender.keys.axis!r} did not {what} within {timeout_s:g} s")

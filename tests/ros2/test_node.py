@@ -49,6 +49,21 @@ pacing = "lockstep"
 pdo_timeout_ms = 2000
 heartbeat_timeout_ms = 2000
 """
+PEER_PROFILE = """<?xml version="1.0" encoding="UTF-8" ?>
+<profiles xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">
+  <participant profile_name="axisflow_test_peer" is_default_profile="true">
+    <rtps><builtin><discovery_config>
+      <leaseAnnouncement><sec>0</sec><nanosec>200000000</nanosec></leaseAnnouncement>
+    </discovery_config></builtin></rtps>
+  </participant>
+</profiles>
+"""
+"""The test's participant announces itself every 0.2 s instead of every 3 s: a participant made later
+(the node's) learns of it from such an announcement, unless it happens to catch the answer to its own
+first ones; that way, the test's subscriptions are matched while the processes start, not seconds
+later"""
+FAULT_AT_S = 3.0
+"""when the simulated drive faults [s of drive time]: the node must have seen it OK by then"""
 
 
 @pytest.mark.slow
@@ -108,6 +123,13 @@ class Status:
     values: dict[str, str]
 
 
+class Samples(list[Sample]):
+    """The samples one subscription received, in arrival order."""
+
+    first_raw: bytes | None = None
+    """the first message, serialized (for rclpy to deserialize)"""
+
+
 class RosPeer:
     """This test's own rclpy node (its own context, nothing global), spun on the test's thread."""
 
@@ -121,8 +143,6 @@ class RosPeer:
         self.node = rclpy.create_node("axisflow_test_peer", context=self.context)
         self.executor = SingleThreadedExecutor(context=self.context)
         self.executor.add_node(self.node)
-        self.first_raw: bytes | None = None
-        """the first JointState any of :meth:`joint_states`' subscriptions received, serialized"""
 
     def spin_until(self, predicate, timeout_s: float, what: str) -> None:
         import time
@@ -133,21 +153,21 @@ class RosPeer:
                 pytest.fail(f"{what} did not happen within {timeout_s:g} s")
             self.executor.spin_once(timeout_sec=0.01)
 
-    def joint_states(self, axis: str = "a0", best_effort: bool = False) -> list[Sample]:
+    def joint_states(self, axis: str = "a0", best_effort: bool = False) -> Samples:
         """Every JointState on the axis's topic from now on: a reliable subscriber (as ``ros2 topic
         echo``) that takes the serialized messages and reads them with axisflow's codec, which is
         cheaper than rclpy's conversion: a Python subscriber on a loaded machine must keep up with
-        1 kHz. :attr:`first_raw` keeps the first message's bytes for rclpy to deserialize."""
+        1 kHz."""
         from axisflow.acquisition.wire.messages import AxisSample
         from axisflow.acquisition.wire.messages import JointState as Contract
         from rclpy.qos import QoSProfile, ReliabilityPolicy
         from sensor_msgs.msg import JointState
 
-        got: list[Sample] = []
+        got = Samples()
 
         def on_message(data: bytes) -> None:
-            if self.first_raw is None:
-                self.first_raw = data
+            if got.first_raw is None:
+                got.first_raw = data
             js = Contract.decode(data)
             s = AxisSample.from_joint_state(js)
             got.append(Sample(s.stamp_ns, s.axis, js.name, s.position_m, s.velocity_m_s))
@@ -171,10 +191,17 @@ class RosPeer:
         self.node.create_subscription(DiagnosticArray, "/diagnostics", on_message, 100)
         return got
 
-    def call(self, service: str, timeout_s: float = 30.0):
+    def client(self, service: str):
+        """A Trigger client of ``service``, for :meth:`call` (made early, it finds the service while
+        the test waits for other things)."""
         from std_srvs.srv import Trigger
 
-        client = self.node.create_client(Trigger, service)
+        return self.node.create_client(Trigger, service)
+
+    def call(self, client, timeout_s: float = 30.0):
+        from std_srvs.srv import Trigger
+
+        service = client.srv_name
         self.spin_until(client.service_is_ready, timeout_s, f"the service {service}")
         future = client.call_async(Trigger.Request())
         self.spin_until(future.done, timeout_s, f"the answer of {service}")
@@ -187,8 +214,14 @@ class RosPeer:
 
 
 @pytest.fixture
-def ros():
-    peer = RosPeer()
+def ros(tmp_path, monkeypatch):
+    """This test's :class:`RosPeer`, made before the axisflow processes, its DDS participant announcing
+    itself every 0.2 s (:data:`PEER_PROFILE`; the node keeps Fast DDS's defaults)."""
+    profile = tmp_path / "fastdds-peer.xml"
+    profile.write_text(PEER_PROFILE)
+    with monkeypatch.context() as env:  # read once, as this process's first participant is made
+        env.setenv("FASTRTPS_DEFAULT_PROFILES_FILE", str(profile))
+        peer = RosPeer()
     yield peer
     peer.close()
 
@@ -198,13 +231,17 @@ def latest(statuses: list[Status], kind: str) -> Status | None:
     return mine[-1] if mine else None
 
 
-def start_axis(cli, port: int, *node_args: str):
-    """A simulated axis's bridge and its ROS 2 node, both ready."""
-    bridge = cli.start("bridge", "--sim", "--listen", f"tcp/127.0.0.1:{port}", ready=True)
-    cli.wait_ready(bridge, 90)
+def start_axis(cli, port: int, *node_args: str, speed: float = 1.0):
+    """A simulated axis's bridge (at ``speed`` × real time) and its ROS 2 node, both ready: started
+    together, the node's session connects to the bridge once the bridge listens (a session that must
+    connect retries: :mod:`axisflow.acquisition.bus.session`)."""
+    bridge = cli.start(
+        "bridge", "--sim", "--speed", f"{speed:g}", "--listen", f"tcp/127.0.0.1:{port}", ready=True
+    )
     node = cli.start(
         "ros2", "--axis", "a0", "--connect", f"tcp/127.0.0.1:{port}", "--json", *node_args, ready=True
     )
+    cli.wait_ready(bridge, 90)
     cli.wait_ready(node, 90)
     return bridge, node
 
@@ -234,9 +271,9 @@ def test_inside_every_sample_reaches_a_subscriber_and_diagnostics_follow_the_bri
     from sensor_msgs.msg import JointState
 
     assert private_network.interfaces() == ["lo"]  # discovery has nowhere else to go
-    bridge, node = start_axis(cli, port)
     states, diagnostics = ros.joint_states(), ros.diagnostics()
     sensor_data = ros.joint_states(best_effort=True)  # as qos_profile_sensor_data asks: it matches too
+    bridge, node = start_axis(cli, port)  # in real time: this subscriber keeps up with 1 kHz
     ros.spin_until(lambda: len(states) >= 3000, 60, "3000 JointState messages")
     received = list(states)
     assert len(sensor_data) > 1000, "a best-effort subscriber did not match the node's reliable publisher"
@@ -250,7 +287,7 @@ def test_inside_every_sample_reaches_a_subscriber_and_diagnostics_follow_the_bri
     report = json.loads(out)
     assert node.returncode == 0, err
     assert {(s.frame_id, s.names) for s in received} == {("a0", ("carriage", "motor"))}
-    message = deserialize_message(ros.first_raw, JointState)  # what any ROS 2 subscriber gets
+    message = deserialize_message(states.first_raw, JointState)  # what any ROS 2 subscriber gets
     assert (message.header.frame_id, list(message.name)) == ("a0", ["carriage", "motor"])
     assert message.header.stamp.sec * NS + message.header.stamp.nanosec == received[0].stamp_ns
     # every sample the node received reached this subscriber, in order: a gap in the drive stamps is
@@ -271,8 +308,9 @@ def test_inside_every_sample_reaches_a_subscriber_and_diagnostics_follow_the_bri
 @inside_only
 def test_inside_the_samples_are_decimated_to_the_rate_on_the_drive_clock(cli, port, ros):
     assert private_network.interfaces() == ["lo"]
-    _bridge, node = start_axis(cli, port, "--rate", "100")
     states = ros.joint_states()
+    # the drive's clock runs at 4× real time: the node decimates on it, not on the wall clock
+    _bridge, node = start_axis(cli, port, "--rate", "100", speed=4)
     ros.spin_until(lambda: len(states) >= 200, 60, "200 JointState messages at 100 Hz")
     node.send_signal(signal.SIGINT)
     out, _err = cli.finish(node, 60)
@@ -283,7 +321,9 @@ def test_inside_the_samples_are_decimated_to_the_rate_on_the_drive_clock(cli, po
     skipped = sum(b - a - 1 for a, b in itertools.pairwise(periods))
     assert all(b > a for a, b in itertools.pairwise(periods)), "two samples of one period, or out of order"
     assert skipped * 10 <= report["samples_lost"], f"{skipped} periods without a sample; {report}"
-    off_grid = sum(1 for s in states if s.stamp_ns % (10 * TICK_NS))
+    # the node's first sample opens its first period wherever the node joined the stream, off the
+    # grid: this subscriber, matched while the node started, may have it
+    off_grid = sum(1 for s in states[1:] if s.stamp_ns % (10 * TICK_NS))
     assert off_grid <= report["samples_lost"], f"{off_grid} samples off the 10 ms grid; {report}"
     # as many as the periods the samples the node saw span (its first, then the boundaries crossed),
     # less those whose every sample was lost (at most one per 10 lost)
@@ -302,11 +342,13 @@ def test_inside_trajectories_arrive_when_asked_are_refused_when_too_fast_and_sto
     from trajectory_msgs.msg import JointTrajectory
 
     assert private_network.interfaces() == ["lo"]
-    # 100 Hz is plenty to watch moves (the bridge's statuses give the exact ticks), and lets this
-    # process's subscriber keep up on a machine that others load
-    _bridge, node = start_axis(cli, port, "--rate", "100")
     states, diagnostics = ros.joint_states(), ros.diagnostics()
     publisher = ros.node.create_publisher(JointTrajectory, "/axisflow/a0/joint_trajectory", 10)
+    quick_stop = ros.client("/axisflow/a0/quick_stop")
+    # 100 Hz is plenty to watch moves (the bridge's statuses give the exact ticks), and lets this
+    # process's subscriber keep up on a machine that others load; every duration checked is one of
+    # drive time (ticks, stamps), which runs at 4× real time
+    _bridge, node = start_axis(cli, port, "--rate", "100", speed=4)
     ros.spin_until(lambda: publisher.get_subscription_count() >= 1, 30, "the node's trajectory subscription")
     ros.spin_until(lambda: len(states) > 0, 30, "a JointState")
     keys = AxisKeys("a0")
@@ -346,7 +388,8 @@ def test_inside_trajectories_arrive_when_asked_are_refused_when_too_fast_and_sto
         and refusal.values["trajectories refused"] == "1"
     )
 
-    # slow (30 s), so that the quick stop comes while it moves, however late this process sees it
+    # slow (30 s of drive time, 7.5 s here), so that the quick stop comes while it moves, however late
+    # this process sees it
     since = len(diagnostics)
     publisher.publish(trajectory((0.75, 30.0)))
 
@@ -356,7 +399,7 @@ def test_inside_trajectories_arrive_when_asked_are_refused_when_too_fast_and_sto
 
     ros.spin_until(moving_or_failed, 60, "the axis moving towards 0.75 m")
     assert states[-1].velocity_m_s > 0.005, latest(diagnostics, "motion")
-    answer = ros.call("/axisflow/a0/quick_stop")
+    answer = ros.call(quick_stop)
     assert answer.success and answer.message.startswith("quick stop: at rest at "), answer.message
     assert "bridge tick" in answer.message and "drive time" in answer.message and "setpoint" in answer.message
     stopped_at = float(answer.message.removeprefix("quick stop: at rest at ").split(" m")[0])
@@ -380,25 +423,35 @@ def test_inside_a_drive_fault_is_an_error_on_diagnostics_until_the_reset_service
     assert private_network.interfaces() == ["lo"]
     config = tmp_path / "drive.toml"
     config.write_text(CANOPEN_CONFIG)
-    drive = cli.start("drive-sim", "--drive-config", str(config), "--fault-at", "15:4310")
+    diagnostics = ros.diagnostics()
+    reset_fault = ros.client("/axisflow/a0/reset_fault")
+    # the node first (it listens; the bridge connects to it): it watches the bridge from its first
+    # tick, so that it sees the drive follow setpoints before the fault, FAULT_AT_S of drive time
+    # after the master made it operational
+    drive = cli.start("drive-sim", "--drive-config", str(config), "--fault-at", f"{FAULT_AT_S:g}:4310")
+    node = cli.start("ros2", "--axis", "a0", "--listen", f"tcp/127.0.0.1:{port}", ready=True)
     booted = lambda: "booted (pre-operational)" in drive.stderr_text()  # noqa: E731
     assert wait_until(booted, 60), f"the simulated drive did not boot: {drive.stderr_text()[-2000:]}"
+    cli.wait_ready(node, 90)
     bridge = cli.start(
-        "bridge", "--drive-config", str(config), "--listen", f"tcp/127.0.0.1:{port}", ready=True
+        "bridge", "--drive-config", str(config), "--connect", f"tcp/127.0.0.1:{port}", ready=True
     )
     cli.wait_ready(bridge, 120)
-    node = cli.start("ros2", "--axis", "a0", "--connect", f"tcp/127.0.0.1:{port}", ready=True)
-    cli.wait_ready(node, 90)
-    diagnostics = ros.diagnostics()
-    ros.spin_until(lambda: latest(diagnostics, "drive") is not None, 15, "the drive's diagnostics")
+    # STALE (no bridge, then no sample yet) until the samples flow: then OK, or already the fault
+    ros.spin_until(
+        lambda: latest(diagnostics, "drive") is not None and latest(diagnostics, "drive").level < 3,
+        30,
+        "the drive's diagnostics with the bridge running",
+    )
     assert latest(diagnostics, "drive").level == 0, (
-        "the drive faulted before the node was up: start it sooner"
+        f"the node did not see the drive follow setpoints before the fault at {FAULT_AT_S:g} s of drive "
+        f"time (raise it later): {latest(diagnostics, 'drive')}"
     )
     ros.spin_until(lambda: latest(diagnostics, "drive").level == 2, 120, "the drive's fault as an ERROR")
     fault = latest(diagnostics, "drive")
     assert fault.hardware_id == "a0" and "drive temperature too high" in fault.message
     assert (fault.values["last drive event"], fault.values["error_code"]) == ("FAULT", "0x4310")
-    answer = ros.call("/axisflow/a0/reset_fault")
+    answer = ros.call(reset_fault)
     assert answer.success and "operation enabled" in answer.message, answer.message
     ros.spin_until(lambda: latest(diagnostics, "drive").level == 0, 15, "the drive OK again")
     assert latest(diagnostics, "drive").values["last drive event"] == "ENABLED"

@@ -144,6 +144,9 @@ class _DriveNetwork(canopen.Network):
     documented point to override, and the heartbeat task is stopped alongside."""
 
     silent = False
+    NOTIFIER_CYCLE = 0.1
+    """the longest the receive thread waits for a frame before it looks whether it is stopped [s]: a
+    drive whose master is gone (no SYNC, no SDO) closes within it, not within canopen's 1 s"""
 
     def send_message(self, can_id: int, data: bytes, remote: bool = False) -> None:
         if not self.silent:
