@@ -18,7 +18,11 @@ def test_a_killed_planner_leaves_the_axis_at_rest_and_a_restart_carries_on(cli, 
     points = tmp_path / "points.txt"
     points.write_text("0.1\n0.7\n0.2\n0.6\n0.3\n")
     endpoint = f"tcp/127.0.0.1:{port}"
-    bridge = cli.start("bridge", "--sim", "--speed", "2", "--listen", endpoint, "--json", ready=True)
+    # --speed 4: the kill must land while 0.7 → 0.2 m runs (5.7 s of drive time, ~1.4 s of wall time).
+    # The planner's death needs no time-out to be seen: the kernel closes its link with the process,
+    # its session's token goes with the link, and the bridge drops the queue on its next tick:
+    # milliseconds after the kill, not seconds, even on a loaded machine.
+    bridge = cli.start("bridge", "--sim", "--speed", "4", "--listen", endpoint, "--json", ready=True)
     cli.wait_ready(bridge)
     planner_args = ("planner", "--waypoints", str(points), "--case", "min-time-energy", "--connect", endpoint)
     handler = lambda: zenoh.handlers.FifoChannel(10_000)  # noqa: E731

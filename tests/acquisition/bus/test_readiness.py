@@ -101,7 +101,7 @@ def test_a_sender_is_ready_for_the_bridge_when_it_says_so(cli, port):
         ):
             assert sender.wait_for_bridge(10.0)
             x_to = x + (0.01 if attempt % 2 == 0 else -0.01)
-            cmd = sender.send(x, x_to, 0.2)
+            cmd = sender.send(x, x_to, 0.1)  # 1 cm in 0.1 s: the shortest duration the planner gives a move
             x = x_to
             status = sender.wait_status(cmd.move_id, {MoveState.COMPLETED}, 10.0)
             assert status is not None and status.state is MoveState.COMPLETED, (attempt, sender.statuses)
