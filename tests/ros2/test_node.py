@@ -67,6 +67,7 @@ FAULT_AT_S = 3.0
 
 
 @pytest.mark.slow
+@pytest.mark.heavy
 def test_the_node_against_ros2_nodes_inside_a_private_network_namespace(tmp_path):
     if INSIDE:
         pytest.skip("this is the namespace's own run")

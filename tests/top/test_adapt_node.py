@@ -14,7 +14,7 @@ from axisflow.model import load_params
 
 from axisflow.move_energy import read_move_energies
 
-pytestmark = pytest.mark.slow
+pytestmark = [pytest.mark.slow, pytest.mark.heavy]
 
 
 def test_the_planner_plans_with_what_the_adaptive_node_accepts(cli, tmp_path, port):

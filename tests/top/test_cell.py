@@ -30,6 +30,7 @@ def _sequences(path, topic: str) -> np.ndarray:
 
 
 @pytest.mark.slow
+@pytest.mark.heavy
 def test_a_router_restart_keeps_every_axis_safe_and_the_recording_marks_the_gap_only(tmp_path):
     layout = CellLayout.on_loopback(4)  # bridges at 1× real time, as on a machine
     recording = tmp_path / "cell.mcap"
@@ -105,6 +106,7 @@ def test_a_router_restart_keeps_every_axis_safe_and_the_recording_marks_the_gap_
 
 
 @pytest.mark.slow
+@pytest.mark.heavy
 def test_demo_of_a_cell_gives_table_2_per_axis_from_one_recording(cli, tmp_path):
     out = tmp_path / "cell"
     done = cli.run("demo", "--axes", "2", "--waypoints", "3", "--out", str(out), timeout=600)
@@ -132,6 +134,7 @@ def test_demo_of_a_cell_gives_table_2_per_axis_from_one_recording(cli, tmp_path)
 
 
 @pytest.mark.slow
+@pytest.mark.heavy
 def test_cell_benchmark_runs_both_paths_in_one_run(cli):
     done = cli.run(
         "bench", "cell", "--json", "--axes", "2", "--seconds", "0.5", "--outage-axes", "0", timeout=300

@@ -39,6 +39,7 @@ def _stop(cli, proc) -> str:
 
 
 @pytest.mark.slow
+@pytest.mark.heavy
 def test_excite_record_identify_recovers_the_plant_and_validates_on_planned_moves(cli, tmp_path, port, demo):
     endpoint = f"tcp/127.0.0.1:{port}"
     bridge = cli.start("bridge", "--sim", "--speed", "0", "--listen", endpoint, ready=True)
@@ -81,6 +82,7 @@ def test_excite_record_identify_recovers_the_plant_and_validates_on_planned_move
 
 
 @pytest.mark.slow
+@pytest.mark.heavy
 def test_the_demo_closes_the_loop(tmp_path, demo):
     done, out = demo
     assert done.returncode == 0, done.stderr[-3000:]

@@ -14,6 +14,7 @@ KEYS = AxisKeys()
 
 
 @pytest.mark.slow
+@pytest.mark.heavy
 def test_a_killed_planner_leaves_the_axis_at_rest_and_a_restart_carries_on(cli, tmp_path, port):
     points = tmp_path / "points.txt"
     points.write_text("0.1\n0.7\n0.2\n0.6\n0.3\n")

@@ -35,6 +35,7 @@ def _collect(sub, trackers: dict[str, SequenceTracker], samples: int, timeout_s:
 
 @pytest.mark.parametrize("speed", ["0", "1"])
 @pytest.mark.slow
+@pytest.mark.heavy
 def test_a_subscriber_joining_a_running_bridge_misses_no_sample(cli, port, speed):
     """A fresh session joins a running bridge again and again (the case that lost samples): at speed 0
     the bridge runs flat out for a keeper subscriber; at speed 1 at 1 kHz. No join has a gap."""
@@ -64,6 +65,7 @@ def test_a_subscriber_joining_a_running_bridge_misses_no_sample(cli, port, speed
 
 
 @pytest.mark.slow
+@pytest.mark.heavy
 def test_messages_published_once_a_subscriber_matches_all_arrive(port):
     """The publisher waits for Zenoh's matching listener, then publishes at once (no settling time):
     every message, from the first, reaches a subscriber that was already there — over many new
@@ -88,6 +90,7 @@ def test_messages_published_once_a_subscriber_matches_all_arrive(port):
 
 
 @pytest.mark.slow
+@pytest.mark.heavy
 def test_a_sender_is_ready_for_the_bridge_when_it_says_so(cli, port):
     """Right after wait_for_bridge, a new sender's first move is accepted and its statuses reach it —
     over many senders, each on a fresh session (the bridge's token and a hello are the facts)."""
