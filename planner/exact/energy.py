@@ -165,6 +165,8 @@ def _margin_peak(bend: Callable[[float], tuple[float, float]], u: float) -> floa
         else:
             hi = u
         new = u - hu / huu if huu < 0.0 else -1.0
+        if huu < 0.0 and abs(new - u) <= 1e-12:  # converged, also when u is now an end of [lo, hi]
+            return min(max(new, lo), hi)
         if not lo < new < hi:
             new = 0.5 * (lo + hi)
         if abs(new - u) <= 1e-12 or hi - lo <= 1e-13:
