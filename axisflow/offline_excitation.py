@@ -20,6 +20,7 @@ from .acquisition.bridge.move_queue import MoveQueue, QueuedMove
 from .acquisition.drives.plant import PlantConfig
 from .acquisition.drives.sim_axis import SimulatedAxis
 from .acquisition.logs.mcap_writer import Ros2McapWriter
+from .acquisition.wire.axis_sample_encoder import AxisSampleEncoder
 from .acquisition.wire.drive_info import DRIVE_INFO_TYPE, SIMULATED, DriveInfo
 from .acquisition.wire.drive_info import PERIOD_TICKS as DRIVE_INFO_PERIOD
 from .acquisition.wire.keys import AxisKeys, topic_for_key
@@ -91,6 +92,7 @@ def record_offline_excitation(
         queued.append(queue.submit(cmd, settle if not queued else 0))
     end_tick = queued[-1].end_tick + settle
     written = lost = 0
+    encoder = AxisSampleEncoder(keys.axis)  # the bridge's one-call encoder: the same bytes as .encode()
     with _Writer(path, keys) as out:
         for tick in range(end_tick):
             sample = drive.read()
@@ -99,9 +101,9 @@ def record_offline_excitation(
             if not drive.status().fresh:
                 lost += 1
             else:
-                out.state(sample.stamp_ns, sample.encode())
+                out.state(sample.stamp_ns, encoder.encode_sample(sample))
                 written += 1
-            out.setpoint(stamp, setpoint.to_sample(stamp, keys.axis, nominal).encode())
+            out.setpoint(stamp, encoder.encode_sample(setpoint.to_sample(stamp, keys.axis, nominal)))
             if tick % DRIVE_INFO_PERIOD == 0:
                 out.drive(stamp, DriveInfo(stamp, keys.axis, SIMULATED, plant.profile, plant.source).encode())
             drive.apply(setpoint)

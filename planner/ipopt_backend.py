@@ -126,6 +126,14 @@ def _build(
     )
 
 
+def _nlp(problem: MoveProblem, params: AxisParams, settings: IpoptSettings) -> ca.Function:
+    """The cached NLP of the problem's law and case, the axis's accounting and ``settings``; minimum
+    time has no energy term, so its three accountings share one NLP."""
+    energy = problem.case is Case.MIN_TIME_ENERGY
+    accounting = params.energy_accounting if energy else EnergyAccounting.SIGNED
+    return _build(problem.law, problem.case, accounting, settings)
+
+
 def initial_guess(problem: MoveProblem, params: AxisParams) -> float:
     """Starting duration, clipped into the bounds.
 
@@ -154,14 +162,14 @@ class IpoptBackend:
 
     def prepare(self, problem: MoveProblem, params: AxisParams) -> None:
         """Build (and cache) the NLP for this law/case/accounting so a later solve is timed alone."""
-        _build(problem.law, problem.case, params.energy_accounting, self.settings)
+        _nlp(problem, params, self.settings)
 
     def solve(self, problem: MoveProblem, params: AxisParams) -> PlanResult:
         if is_zero_move(problem, params):
             return zero_move_result(problem, params, self.name)
         require_feasible_bounds(problem, params)
         d = problem.distance_m
-        nlp = _build(problem.law, problem.case, params.energy_accounting, self.settings)
+        nlp = _nlp(problem, params, self.settings)
         keep = 1.0 - self.settings.limit_margin
         pvals = [
             d,

@@ -156,16 +156,16 @@ def move_flood(work: Path, moves: int = 2000, move_s: float = 30.0, floods: int 
         with open_session(rig.options()) as session, RssSampler(bridge.pid, 0.1) as rss:
             require_bridge(session)
             watch = StatusWatch(session)
-            time.sleep(1.0)
-            rss_at["before"] = rss.samples[-1][1]
+            rss_at["before"] = rss.after(time.monotonic())
             for flood in (f"flood {i}" for i in range(1, floods + 1)):
                 marks[flood] = time.time_ns()
                 counts, seconds = _flood(session, watch, x, moves, move_s)
                 per_sender.append(counts)
                 answer_s.append(seconds)
                 x = 0.3  # where the move that runs (the first sender's first) ends
-                time.sleep(1.0)
-                rss_at[f"after {flood}"] = rss.samples[-1][1]
+                # every move of the flood is answered and its queue dropped: the bridge has freed them
+                # (its RSS stays where it is until the next flood)
+                rss_at[f"after {flood}"] = rss.after(time.monotonic())
             marks["end"] = time.time_ns()
             statuses = list(watch.drain())
             watch.close()

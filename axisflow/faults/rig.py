@@ -128,6 +128,19 @@ class RssSampler:
                 return  # the process is gone
             self._stop.wait(self.period_s)
 
+    def after(self, t: float, timeout_s: float = 10.0) -> float:
+        """The RSS [MB] of the first sample taken at or after monotonic time ``t`` (waiting for it); a
+        :class:`RuntimeError` if none comes within ``timeout_s`` (the process is gone)."""
+        found: list[float] = []
+
+        def sampled() -> bool:
+            found[:] = [mb for when, mb in self.samples if when >= t][:1]
+            return bool(found)
+
+        if not wait_until(sampled, timeout_s, self.period_s / 4):
+            raise RuntimeError(f"no RSS sample of process {self.pid} within {timeout_s:g} s")
+        return found[0]
+
     def between(self, t0: float, t1: float) -> list[float]:
         return [mb for t, mb in self.samples if t0 <= t <= t1]
 

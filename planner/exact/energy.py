@@ -136,10 +136,11 @@ def braking_energy_and_slope(
     value, bend = braking_margin(lm, A, beta)
     h0, h0_u, _ = value(0.0)
     u_peak = 0.0 if h0_u < 0.0 else _margin_peak(bend, hint[1] if hint else lm.u_acc_peak)
-    if value(u_peak)[0] <= 0.0:
+    h_peak = value(u_peak)[0]
+    if h_peak <= 0.0:
         return 0.0, 0.0
-    lo = 0.0 if h0 > 0.0 else _margin_root(value, 0.0, u_peak, hint[0] if hint else -1.0)
-    hi = _margin_root(value, u_peak, 0.5, hint[2] if hint else -1.0)
+    lo = 0.0 if h0 > 0.0 else _margin_root(value, 0.0, h0, u_peak, hint[0] if hint else -1.0)
+    hi = _margin_root(value, u_peak, h_peak, 0.5, hint[2] if hint else -1.0)
     if hint is not None:
         hint[:] = [lo, u_peak, hi]
     # panels graded towards lo: the end of the move (u = 0), where atan(a4·β·s') turns sharply, is
@@ -165,6 +166,8 @@ def _margin_peak(bend: Callable[[float], tuple[float, float]], u: float) -> floa
         else:
             hi = u
         new = u - hu / huu if huu < 0.0 else -1.0
+        if huu < 0.0 and abs(new - u) <= 1e-12:  # converged, also when u is now an end of [lo, hi]
+            return min(max(new, lo), hi)
         if not lo < new < hi:
             new = 0.5 * (lo + hi)
         if abs(new - u) <= 1e-12 or hi - lo <= 1e-13:
@@ -174,10 +177,9 @@ def _margin_peak(bend: Callable[[float], tuple[float, float]], u: float) -> floa
 
 
 def _margin_root(
-    value: Callable[[float], tuple[float, float, float]], a: float, b: float, x0: float
+    value: Callable[[float], tuple[float, float, float]], a: float, fa: float, b: float, x0: float
 ) -> float:
-    """The zero of h between a and b, where h changes sign (safeguarded Newton from x0)."""
-    fa = value(a)[0]
+    """The zero of h between a and b, where h changes sign (fa = h(a); safeguarded Newton from x0)."""
     x = x0 if a < x0 < b else 0.5 * (a + b)
     for _ in range(NEWTON_MAX_STEPS):
         fx, dx, _ = value(x)
@@ -186,6 +188,8 @@ def _margin_root(
         else:
             b = x
         new = x - fx / dx if dx != 0.0 else -1.0
+        if abs(new - x) <= 1e-15:  # converged, also when the step is below x's last bit and x is an end
+            return min(max(new, min(a, b)), max(a, b))
         if not min(a, b) < new < max(a, b):
             new = 0.5 * (a + b)
         if abs(new - x) <= 1e-15 or abs(b - a) <= 1e-15:

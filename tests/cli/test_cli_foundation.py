@@ -185,8 +185,10 @@ def test_every_command_has_help_with_a_description_and_every_option_explained(ca
 
 @pytest.mark.slow
 def test_offline_table2_lands_within_ten_percent_of_the_paper(tmp_path):
-    """The default parameters were calibrated so that all twelve T and E_th figures land within ±10 %."""
-    assert main(["experiment", "--out", str(tmp_path)]) == 0
+    """The default parameters were calibrated so that all twelve T and E_th figures land within ±10 %.
+    (The planned columns only: the comparison with the physical limit, ~85 % of a full run's time, is
+    checked by test_experiment_writes_a_table2_json_that_decodes_to_the_record.)"""
+    assert main(["experiment", "--out", str(tmp_path), "--no-limits"]) == 0
     for row in read_table2(tmp_path / "table2.json").rows:
         assert row.paper is not None
         assert row.planned.total_time_s == pytest.approx(row.paper.total_time_s, rel=0.10), row.law

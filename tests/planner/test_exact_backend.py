@@ -290,6 +290,32 @@ def test_the_law_model_energy_is_the_model_energy(accounting):
             assert law_energy(lm, D, T, accounting) == pytest.approx(ref, rel=1e-9), (law, D, T)
 
 
+@pytest.mark.parametrize(
+    ("accounting", "x0", "x1", "T", "peak"),
+    [
+        ("positive", 0.29780470663007236, 0.7126240786160225, 0.897652537438027, 0.22428104457734527),
+        ("absolute", 0.1565222639562568, 0.5913974992269536, 0.9234075409596703, 0.22317234798535307),
+    ],
+)
+def test_a_braking_evaluation_started_at_the_margins_peak_keeps_that_peak(accounting, x0, x1, T, peak):
+    """poly7's braking margin h has two maxima on [0, 1/2] here, the second one below zero. Started
+    from a hint one Newton step from the first (as a root search's previous evaluation leaves it), the
+    peak search landed exactly on it (h' = 0) and then bisected away to the second: no braking energy
+    (a solve with it was 4e-4 off in energy and not the optimum). Now it keeps the peak it reached."""
+    from axisflow.planner.exact import law_model
+    from axisflow.planner.exact.energy import braking_energy_and_slope
+
+    p = default_params().replace(energy_accounting=accounting)
+    lm = law_model(polynomial_law("poly7"), p)
+    D = x1 - x0
+    hinted = braking_energy_and_slope(lm, D, T, [0.2, peak, 0.24])
+    assert hinted == pytest.approx(braking_energy_and_slope(lm, D, T), rel=1e-12)
+    c = 1.0 if accounting == "positive" else 2.0
+    signed = move_energy(Move(x0, x1, T, polynomial_law("poly7")), p.replace(energy_accounting="signed"))
+    ref = move_energy(Move(x0, x1, T, polynomial_law("poly7")), p)
+    assert hinted[0] > 0.0 and signed + c * hinted[0] == pytest.approx(ref, rel=1e-9)
+
+
 def test_without_viscous_friction_a_heavy_time_weight_means_the_fastest_feasible_move(params):
     """a2 = 0 bounds ψ(β) by a3/a4: for ω/(1 − ω) above it, J (signed energy) rises with T
     everywhere (β* = ∞)."""

@@ -21,12 +21,14 @@ def _node(session, runs, params=None, solver="exact", lookahead_s=2.0):
 @pytest.mark.slow
 def test_runs_both_cases_back_to_back_with_plan_records(thread_bridge, port, solver):
     runs = (NodeRun(Case.MIN_TIME, "poly5"), NodeRun(Case.MIN_TIME_ENERGY, "poly3"))
-    # at 5× real time, 2 s of drive time queued is 0.4 s of wall time for a plan (IPOPT's first solve
-    # alone took 75 ms on a loaded machine; at --speed 0 in-process the bridge runs ~50× real time)
+    # at 10× real time, 4 s of drive time queued is 0.4 s of wall time for a plan (IPOPT's first solve
+    # alone took 75 ms on a loaded machine; at --speed 0 in-process the bridge runs ~50× real time).
+    # The min-time-energy moves (3–6 s each) still run with one or two queued behind: each is planned
+    # while the one before runs.
     with (
-        thread_bridge(port, speed=5.0) as bridge,
+        thread_bridge(port, speed=10.0) as bridge,
         open_session(ZenohOptions.loopback(connect_port=port)) as session,
-        _node(session, runs, solver=solver) as node,
+        _node(session, runs, solver=solver, lookahead_s=4.0) as node,
     ):
         reports = node.run(WAYPOINTS)
         records = bridge.plan_records()
