@@ -47,6 +47,7 @@ def test_generated_payloads_are_seeded_and_none_could_run():
 
 
 @pytest.mark.slow
+@pytest.mark.heavy
 def test_a_bridge_rejects_every_bad_payload_with_a_reason_and_records_every_tick(tmp_path):
     r = bad_payloads(tmp_path, per_sender=1000, oversized=True)
     report = r.end.report

@@ -6,6 +6,7 @@ from axisflow.faults.move_flood import MAX_FLOOD_RSS_GROWTH_MB, move_flood
 
 
 @pytest.mark.slow
+@pytest.mark.heavy
 def test_a_flood_of_valid_moves_fills_the_queue_to_its_bound_and_no_further(tmp_path):
     r = move_flood(tmp_path, moves=2000)
     first, *later = r.per_sender

@@ -5,7 +5,7 @@ import pytest
 
 from axisflow.faults.session_faults import JOIN_LOSS_ALLOWANCE, session_faults
 
-pytestmark = pytest.mark.slow  # a module fixture of several seconds: the whole module is in the slow tier
+pytestmark = [pytest.mark.slow, pytest.mark.heavy]  # a module fixture of several seconds: the whole module is in the slow tier
 
 
 @pytest.fixture(scope="module")
