@@ -5,7 +5,8 @@ import pytest
 
 from axisflow.faults.session_faults import JOIN_LOSS_ALLOWANCE, session_faults
 
-pytestmark = [pytest.mark.slow, pytest.mark.heavy]  # a module fixture of several seconds: the whole module is in the slow tier
+# a module fixture of several seconds: the whole module is in the slow tier, and bounds the bridge's stalls
+pytestmark = [pytest.mark.slow, pytest.mark.heavy]
 
 
 @pytest.fixture(scope="module")
