@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import threading
 import time
+from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -80,15 +81,21 @@ class StatusWatch:
         self._joined = JoinedSubscriber(session, keys.event, handler).__enter__()  # misses no status
         self._sub = self._joined.subscriber
         self.statuses: list[MoveStatus] = []
+        # per (state, sender): a count stays O(1) while a flood's thousands of statuses arrive
+        self._counts: Counter[tuple[MoveState, str]] = Counter()
 
     def drain(self) -> list[MoveStatus]:
         while (sample := self._sub.try_recv()) is not None:
-            self.statuses.append(MoveStatus.decode(sample.payload.to_bytes()))
+            status = MoveStatus.decode(sample.payload.to_bytes())
+            self.statuses.append(status)
+            self._counts[status.state, status.sender] += 1
         return self.statuses
 
     def count(self, state: MoveState, sender: str | None = None) -> int:
         self.drain()
-        return sum(s.state is state and (sender is None or s.sender == sender) for s in self.statuses)
+        if sender is not None:
+            return self._counts[state, sender]
+        return sum(n for (s, _sender), n in self._counts.items() if s is state)
 
     def wait(self, state: MoveState, count: int, timeout_s: float, sender: str | None = None) -> bool:
         return wait_until(lambda: self.count(state, sender) >= count, timeout_s)
