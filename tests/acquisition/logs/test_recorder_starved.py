@@ -30,7 +30,6 @@ def _status_kb(pid: int, field: str) -> int:
 
 
 @pytest.mark.slow
-@pytest.mark.heavy
 def test_a_starved_recorder_stays_bounded_and_accounts_for_every_message(cli, tmp_path):
     port = cli.free_port()
     out = tmp_path / "starved.mcap"

@@ -37,7 +37,6 @@ heartbeat_timeout_ms = 2000
 
 
 @pytest.mark.slow
-@pytest.mark.heavy
 def test_drive_sim_and_bridge_as_processes_in_a_private_network_namespace(tmp_path):
     if os.environ.get(INSIDE):
         pytest.skip("this is the namespace's own run")
