@@ -5,6 +5,7 @@ drives the axis (DriveInfo once a second, and in its report)."""
 import threading
 
 import numpy as np
+import pytest
 import zenoh
 from axisflow.acquisition import AxisKeys, AxisSample, BridgeConfig, SimulatedAxis, ZenohOptions, open_session
 from axisflow.acquisition import run_bridge as run
@@ -24,6 +25,8 @@ def _drain(sub) -> list:
     return out
 
 
+@pytest.mark.slow
+@pytest.mark.heavy  # every sample must cross Zenoh: on two workers, a busy machine lost some in transport
 def test_lost_samples_are_counted_and_the_bridge_names_its_drive(port):
     plant = load_profile("realistic", PARAMS)
     drive = SimulatedAxis(plant, PARAMS, T0, axis="a0")
