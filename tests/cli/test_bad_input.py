@@ -1583,6 +1583,7 @@ def test_the_issue_s_tiny_move_returns_at_once_as_a_process(tmp_path):
 @pytest.mark.timeout(120)
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT], ids=["SIGTERM", "SIGINT"])
 @pytest.mark.slow
+@pytest.mark.heavy  # a bound in wall time: alone, not beside another test's processes
 def test_the_planner_with_tiny_way_points_ends_within_2_s_of_a_signal(cli, tmp_path, sig):
     """Way points within a count of each other (zero moves, not sent) among real moves, on a bridge at
     real time: mid-run (a plan record seen), the signal ends the planner within 2 s."""

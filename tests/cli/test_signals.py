@@ -16,7 +16,7 @@ from axisflow.acquisition.wire.messages import JOINT_STATE_TYPE
 
 from axisflow.processes import wait_until
 
-pytestmark = pytest.mark.slow
+pytestmark = [pytest.mark.slow, pytest.mark.heavy]  # each stop is bounded in wall time (2 s)
 
 STOP_WITHIN_S = 2.0
 SIGNALS = pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT], ids=["SIGTERM", "SIGINT"])
