@@ -90,15 +90,16 @@ def test_a_router_restart_keeps_every_axis_safe_and_the_recording_marks_the_gap_
             columns = read_joint_states(recording, topic)
             gaps = np.flatnonzero(steps > 1)
             where = [(int(steps[g] - 1), (int(columns.stamp_ns[g]) - restart_wall_ns) / 1e9) for g in gaps]
-            # one gap, the router's outage, and nothing else (telemetry drops on congestion: a machine
-            # so loaded that a process gets no CPU for a while loses samples elsewhere too)
-            assert len(gaps) == 1, f"{topic}: gaps (samples, s after the restart began): {where}"
-            gap = gaps[0]
-            assert steps[gap] - 1 == stats["missed"], topic
-            last_before, first_after = columns.stamp_ns[gap], columns.stamp_ns[gap + 1]
-            # the gap is the outage: it opens after the stop was asked and closes once the clients are back
-            assert last_before >= restart_wall_ns - 1_000_000_000, topic
-            assert first_after <= back_wall_ns + 2_000_000_000, topic
+            # the router's outage and nothing else: every gap opens after the stop was asked and closes
+            # once the clients are back (the outage, and now and then a sample lost while the links form
+            # again: seen once in ten runs, 1 sample 0.31 s after a 307-sample outage); none elsewhere
+            # (telemetry drops on congestion: a machine so loaded that a process gets no CPU for a while
+            # loses samples elsewhere too)
+            assert len(gaps) >= 1 and (steps[gaps] - 1).sum() == stats["missed"], (topic, where)
+            for gap in gaps:
+                last_before, first_after = columns.stamp_ns[gap], columns.stamp_ns[gap + 1]
+                assert last_before >= restart_wall_ns - 1_000_000_000, (topic, where)
+                assert first_after <= back_wall_ns + 2_000_000_000, (topic, where)
         setpoints = read_joint_states(recording, topic_for_key(keys.setpoint))
         x = setpoints.position[:, 0]
         assert x.max() <= MOVES[0][1] + 1e-9, f"{axis}: the dropped move towards 0.7 m ran"
