@@ -16,6 +16,7 @@ Every rerun process started here runs with ``CI=1`` (the rerun CLI's analytics s
 
 from __future__ import annotations
 
+import _thread
 import os
 import resource
 import signal
@@ -46,16 +47,20 @@ def _quiet_half_built_streams(previous: Any) -> Any:
     rerun wraps its native streams in :class:`rerun.RecordingStream` objects as it goes (``__new__``,
     then ``inner`` set); a Ctrl-C or SIGTERM that lands between the two leaves a wrapper without
     ``inner``, whose ``__del__`` then prints a traceback ("Exception ignored in … no attribute
-    'inner'") under the command's clean one-line stop. Such a wrapper holds nothing to flush."""
+    'inner'") under the command's clean one-line stop. Such a wrapper holds nothing to flush. A stop
+    that lands inside a stream's ``__del__`` would be printed and lost (an exception there cannot
+    propagate): it is delivered to the main thread again instead."""
 
     def hook(unraisable: Any) -> None:
         exc = unraisable.exc_value
-        if (
-            isinstance(exc, AttributeError)
-            and getattr(exc, "name", None) == "inner"
-            and getattr(unraisable.object, "__qualname__", "") == "RecordingStream.__del__"
-        ):
-            return
+        if getattr(unraisable.object, "__qualname__", "") == "RecordingStream.__del__":
+            if isinstance(exc, AttributeError) and getattr(exc, "name", None) == "inner":
+                return
+            if isinstance(exc, KeyboardInterrupt):  # a stop landed in the stream's flush: deliver it again
+                # from another thread, once this hook has returned (raised here, it would be lost too)
+                signum = getattr(exc, "signum", signal.SIGINT)
+                threading.Timer(0.05, _thread.interrupt_main, (signum,)).start()
+                return
         previous(unraisable)
 
     return hook

@@ -32,3 +32,29 @@ def test_a_half_built_rerun_stream_leaves_no_traceback_and_other_ones_still_show
     stderr = _stderr_of("import axisflow.viz.outputs")
     assert "RecordingStream" not in stderr
     assert "Exception ignored in: <function Other.__del__" in stderr  # nothing else is swallowed
+
+
+STOP_IN_DEL = """
+import time
+import rerun as rr
+import axisflow.viz.outputs
+
+
+def interrupted(**_kwargs):
+    raise KeyboardInterrupt  # as a Ctrl-C landing in the stream's flush at its end
+
+
+stream = rr.RecordingStream("axisflow_test")
+stream._flush = interrupted
+try:
+    del stream
+    time.sleep(10)
+    print("not stopped")
+except KeyboardInterrupt:
+    print("stopped")
+"""
+
+
+def test_a_stop_that_lands_in_a_streams_end_is_not_lost():
+    done = subprocess.run([sys.executable, "-c", STOP_IN_DEL], capture_output=True, text=True, timeout=60)
+    assert done.stdout.strip() == "stopped" and "Exception ignored" not in done.stderr, done.stderr
