@@ -25,9 +25,6 @@ def test_record_and_bridge_exit_on_their_own(cli, tmp_path, port):
     out, err = cli.finish(bridge, timeout=60)  # fails the test if the bridge hangs at exit
     assert bridge.returncode == 0, err
     assert json.loads(out)["ticks"] == 500
-    from axisflow.acquisition import read_joint_states
-
-    assert len(read_joint_states(recording, "/axisflow/a0/state")) == 500  # the bridge waited for it
 
 
 def test_a_bridge_at_speed_0_waits_while_nobody_subscribes(cli, port):
