@@ -153,8 +153,8 @@ def session_faults(work: Path, peers: int = 30, fsize_limit: int = 400_000) -> S
             require_bridge(session)
         bridge_ep = f"tcp/127.0.0.1:{rig.bridge_ports[-1]}"
         joining = ("--connect", bridge_ep)
-        # the recorder's first flush (~1 s after its start): recorded samples in the file, which the
-        # second recorder must not touch
+        # the recorder's first flush (~1 s after its start) has put the file on disk: the file the second
+        # recorder must not touch (it may hold only the header yet: the recorder started before the bridge)
         if not wait_until(lambda: rig.recording.stat().st_size > 0, 10.0):
             raise RuntimeError(f"the recorder flushed nothing to {rig.recording} within 10 s")
 
