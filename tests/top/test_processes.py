@@ -50,7 +50,10 @@ def _children(pid: int) -> set[int]:
     """The child processes of ``pid`` (Linux /proc)."""
     found: set[int] = set()
     for task in Path(f"/proc/{pid}/task").iterdir():
-        found |= {int(c) for c in (task / "children").read_text().split()}
+        try:
+            found |= {int(c) for c in (task / "children").read_text().split()}
+        except FileNotFoundError:  # a thread that ended since the listing: it has no children left
+            continue
     return found
 
 
