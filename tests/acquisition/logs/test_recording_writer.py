@@ -1,6 +1,7 @@
 """The recorder's MCAP writer: files every reader reads, flushed data that survives a crash, and a
 backlog that stays bounded (messages dropped whole, counted, recorded in the file)."""
 
+import itertools
 import random
 import shutil
 import threading
@@ -52,6 +53,12 @@ def test_every_message_reads_back_with_mcap_and_our_reader(tmp_path, compression
         summary = reader.get_summary()
         assert summary.statistics.message_count == len(messages)
         assert len(summary.chunk_indexes) > 10
+        counts = {summary.channels[c].topic: n for c, n in summary.statistics.channel_message_counts.items()}
+        assert counts == {t: sum(m[0] == t for m in messages) for t in TOPICS}
+        log_times = [m[1] for m in messages]
+        spans = [(c.message_start_time, c.message_end_time) for c in summary.chunk_indexes]
+        assert spans[0][0] == log_times[0] and spans[-1][1] == log_times[-1]
+        assert all(end < start for (_s, end), (start, _e) in itertools.pairwise(spans))
         assert {c.topic for c in summary.channels.values()} == set(TOPICS)
         assert summary.schemas[1].name == "sensor_msgs/msg/JointState"
         state = next(c for c in summary.channels.values() if c.topic == TOPICS[0])
