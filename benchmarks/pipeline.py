@@ -5,13 +5,15 @@ process that plays N simulated axes, i.e. N telemetry publishers at 1 kHz with r
 JointState payloads pre-encoded and only the stamp patched per tick):
 
 1. baseline: a plain ``mcap.writer.Writer`` (zstd) writing pre-encoded JointState messages as fast as
-   it can, in this process;
+   it can, in this process (measured in each round of step 3);
 2. capacity: N = 8, 16, 32, 48, 64, … axes for ``--seconds`` each, stopping at the first N with a loss
    (or when ``--budget`` runs out): per step, published vs recorded messages, sequence gaps,
    end-to-end latency p50/p99 from sample stamp (header.stamp) to write (MCAP log_time), and the
    recorder's peak RSS;
 3. throughput: a flood of messages published as fast as the recorder accepts them (blocking
-   congestion control); recorder messages/s next to the baseline's, with their ratio;
+   congestion control); recorder messages/s next to the baseline's, with their ratio. ``--flood-rounds``
+   rounds, each the baseline then the flood, so both see the same state of a shared machine; the
+   medians and the ratios' spread are reported;
 4. memory: the recorder's RSS sampled over a longer run (``--memory-seconds``, ``--memory-axes``):
    its growth over the second half (after warm-up) and its trend there (MB/min, least squares).
 """
@@ -29,6 +31,7 @@ from pathlib import Path
 import numpy as np
 from axisflow.model import EXECUTION_RATE_HZ
 
+from axisflow.arguments import positive_int
 from axisflow.processes import Launcher, free_port
 
 PUBLISHER_ENTRY = "axisflow.benchmarks.pipeline:publisher_main"
@@ -64,7 +67,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--budget", type=float, default=60.0, help="stop the capacity search after [s] (default 60)"
     )
     parser.add_argument(
-        "--flood", type=int, default=200_000, help="messages in the throughput flood (default 200000)"
+        "--flood",
+        type=positive_int,
+        default=200_000,
+        help="messages in the throughput flood (default 200000)",
+    )
+    parser.add_argument(
+        "--flood-rounds",
+        type=positive_int,
+        default=3,
+        help="rounds of baseline + flood; their medians are reported (default 3)",
     )
     parser.add_argument(
         "--memory-seconds",
@@ -253,9 +265,6 @@ def run(args: argparse.Namespace) -> int:
     result: dict[str, object] = {"seconds_per_step": args.seconds}
     with tempfile.TemporaryDirectory(prefix="axisflow-bench-") as tmpdir:
         tmp = Path(tmpdir)
-        baseline = _baseline_writer(args.flood, tmp)
-        result["baseline_writer_msgs_per_s"] = baseline
-
         steps = []
         t_start = time.monotonic()
         result["stopped_by"] = "end of the axis list"
@@ -275,19 +284,32 @@ def run(args: argparse.Namespace) -> int:
         ok = [s["axes"] for s in steps if not failure(s)]
         result["max_axes_zero_loss"] = max(ok) if ok else 0
 
-        # flood: 8 keys, as fast as the recorder takes them
+        # flood: 8 keys, as fast as the recorder takes them, each round beside its own baseline
         n_keys = 8
-        flood = _run_step(tmp, n_keys, args.flood / n_keys / EXECUTION_RATE_HZ, speed=0.0)
-        # the recorder's rate: messages over the span of their write times (first to last log_time)
-        flood_rate = flood["recorded"] / flood["write_span_s"] if flood["write_span_s"] else 0.0
+        rounds = []
+        for k in range(args.flood_rounds):
+            baseline = _baseline_writer(args.flood, tmp)
+            flood = _run_step(tmp, n_keys, args.flood / n_keys / EXECUTION_RATE_HZ, speed=0.0)
+            # the recorder's rate: messages over the span of their write times (first to last log_time)
+            rate = flood["recorded"] / flood["write_span_s"] if flood["write_span_s"] else 0.0
+            rounds.append({"baseline_msgs_per_s": baseline, "msgs_per_s": rate, "lost": flood["lost"],
+                           "messages": flood["recorded"], "ratio": rate / baseline})  # fmt: skip
+            _progress(
+                args, f"flood {k + 1}/{args.flood_rounds}: {rate:.0f} msg/s, baseline {baseline:.0f} msg/s"
+            )
+        flood_rate = float(np.median([r["msgs_per_s"] for r in rounds]))
+        baseline = float(np.median([r["baseline_msgs_per_s"] for r in rounds]))
+        ratios = [r["ratio"] for r in rounds]
+        result["baseline_writer_msgs_per_s"] = baseline
         result["recorder_flood"] = {
-            "messages": flood["recorded"],
-            "lost": flood["lost"],
-            "write_span_s": flood["write_span_s"],
+            "messages": sum(r["messages"] for r in rounds),
+            "lost": sum(r["lost"] for r in rounds),
             "msgs_per_s": flood_rate,
             "ratio_to_baseline": flood_rate / baseline,
+            "ratio_min": min(ratios),
+            "ratio_max": max(ratios),
+            "rounds": rounds,
         }
-        _progress(args, f"flood: {flood_rate:.0f} msg/s")
 
         if args.memory_seconds > 0:
             mem = _run_step(tmp, args.memory_axes, args.memory_seconds, sample_rss=True)
@@ -354,10 +376,12 @@ def _print_table(r: dict) -> None:
         f"{r['max_axes_zero_loss']} (goal >= 32); search stopped by: {r['stopped_by']}"
     )
     f = r["recorder_flood"]
+    spread = f"rounds {f['ratio_min']:.2f} to {f['ratio_max']:.2f}; goal >= 0.8"
     print(
-        f"throughput: recorder {f['msgs_per_s']:.0f} msg/s over Zenoh ({f['messages']} msgs, "
-        f"lost {f['lost']}) vs plain mcap Writer {r['baseline_writer_msgs_per_s']:.0f} msg/s in-process: "
-        f"ratio {f['ratio_to_baseline']:.2f}"
+        f"throughput, median of {len(f['rounds'])} rounds: recorder {f['msgs_per_s']:.0f} msg/s over Zenoh "
+        f"({f['messages']} msgs, lost {f['lost']}) vs plain mcap Writer "
+        f"{r['baseline_writer_msgs_per_s']:.0f} msg/s in-process: "
+        f"ratio {f['ratio_to_baseline']:.2f} ({spread})"
     )
     if "memory" in r:
         m = r["memory"]

@@ -110,13 +110,15 @@ def test_pipeline_benchmark_smoke(cli):
 
     result = cli.run(
         "bench", "pipeline", "--json", "--axes", "2", "--seconds", "0.5", "--flood", "4000",
-        "--memory-seconds", "1", "--memory-axes", "2", timeout=120,
+        "--flood-rounds", "2", "--memory-seconds", "1", "--memory-axes", "2", timeout=120,
     )  # fmt: skip
     assert result.returncode == 0, result.stderr
     r = json.loads(result.stdout)
     assert r["steps"][0]["axes"] == 2 and r["steps"][0]["lost"] == 0
     assert r["max_axes_zero_loss"] == 2
-    assert r["recorder_flood"]["lost"] == 0 and r["recorder_flood"]["ratio_to_baseline"] > 0
+    flood = r["recorder_flood"]
+    assert flood["lost"] == 0 and flood["messages"] == 2 * 4000 and len(flood["rounds"]) == 2
+    assert flood["ratio_min"] * 0.9999 <= flood["ratio_to_baseline"] <= flood["ratio_max"] * 1.0001
     assert r["memory"]["axes"] == 2 and r["memory"]["peak_rss_mb"] > 0
 
 
