@@ -75,8 +75,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--flood-rounds",
         type=positive_int,
-        default=3,
-        help="rounds of baseline + flood; their medians are reported (default 3)",
+        default=5,
+        help="rounds of baseline + flood; their medians are reported (default 5)",
     )
     parser.add_argument(
         "--memory-seconds",
