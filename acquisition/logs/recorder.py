@@ -14,11 +14,12 @@ proven (:class:`~axisflow.acquisition.bus.readiness.JoinedSubscriber`): from the
 :func:`~axisflow.acquisition.wire.keys.recorder_token` declared) and misses nothing an axisflow
 publisher sends.
 
-Crash safety. About once a second (``flush_interval_s``) the open chunk is written and fsynced, so a
-SIGKILL loses at most the last second; the file on disk stays readable by a streaming read and
-``axisflow recover`` rebuilds it into a complete one. SIGINT/SIGTERM (set ``stop``): one hello proves
-that what the publishers sent before it has arrived, the channel is drained, then the summary and
-footer are written: nothing sent before the stop is lost.
+Crash safety. About once a second (``flush_interval_s``) the open chunk goes to the writer thread,
+which writes and fsyncs it while receiving goes on (a slow disk does not hold up the subscriber), so a
+SIGKILL loses at most the last second and what the disk had not taken yet; the file on disk stays
+readable by a streaming read and ``axisflow recover`` rebuilds it into a complete one.
+SIGINT/SIGTERM (set ``stop``): one hello proves that what the publishers sent before it has arrived,
+the channel is drained, then the summary and footer are written: nothing sent before the stop is lost.
 
 Splitting: with ``split_bytes`` or ``split_duration_s`` the recording rolls over to
 ``<stem>_0000.mcap``, ``<stem>_0001.mcap``, … at the first flush past the limit.
@@ -356,7 +357,7 @@ class Recorder:
             written = self._drain(sub, _DRAIN_BATCH)
             now = time.monotonic()
             if now >= next_flush:
-                self._writer.flush()
+                self._writer.flush(wait=False)  # the writer thread fsyncs; receiving goes on
                 next_flush = now + c.flush_interval_s
                 self._report_drops()
                 if self._split:

@@ -215,7 +215,7 @@ class RecordingWriter:
         buf += data
         chunk.offsets.append(offset)
         if len(buf) >= self.chunk_size:
-            self._close_chunk(sync=False)
+            self._close_chunk()
         return True
 
     @property
@@ -233,7 +233,7 @@ class RecordingWriter:
         """Bytes in the file, and in chunks on their way to it (uncompressed)."""
         return self._written + self.backlog
 
-    def _close_chunk(self, sync: bool) -> None:
+    def _close_chunk(self) -> None:
         chunk = self._chunk
         if chunk.buf:
             with self._lock:
@@ -241,17 +241,20 @@ class RecordingWriter:
             self._messages += len(chunk.offsets)
             self._work.put(chunk)
             self._chunk = _Chunk()
-        if sync:
-            done = threading.Event()
-            self._work.put(done)
-            done.wait()
         if self._failure is not None:
             raise self._failure
 
-    def flush(self) -> None:
-        """Write the open chunk and fsync, and wait until it is on disk: a crash after this loses
-        nothing added so far."""
-        self._close_chunk(sync=True)
+    def flush(self, wait: bool = True) -> None:
+        """Write the open chunk and fsync. ``wait``: return once it is on disk, so a crash after this
+        loses nothing added so far; else return at once (the writer thread writes and fsyncs it next,
+        and the caller goes on receiving meanwhile)."""
+        self._close_chunk()
+        synced = threading.Event()
+        self._work.put(synced)
+        if wait:
+            synced.wait()
+            if self._failure is not None:
+                raise self._failure
 
     def finish(self, missed: dict[str, int] | None = None) -> None:
         """Write what is left, the loss record (with ``missed``: messages lost on the way, per topic,
@@ -260,7 +263,7 @@ class RecordingWriter:
             return
         self._closed = True
         try:
-            self._close_chunk(sync=False)
+            self._close_chunk()
         finally:
             self._work.put(_FINISH)
             self._thread.join()

@@ -126,3 +126,36 @@ def test_a_stalled_writer_keeps_the_backlog_bounded_and_the_file_says_what_was_d
     assert {
         k.removeprefix("dropped "): int(v) for k, v in loss.items() if k.startswith("dropped /")
     } == dropped
+
+
+def test_a_flush_without_waiting_returns_before_the_disk_and_a_waiting_one_after(tmp_path, monkeypatch):
+    slow_disk = threading.Event()
+    synced = []
+    fsync = recording_writer.os.fsync
+
+    def slow_fsync(fd):  # the writer thread waits here as on a slow disk
+        slow_disk.wait(30)
+        fsync(fd)
+        synced.append(fd)
+
+    monkeypatch.setattr(recording_writer.os, "fsync", slow_fsync)
+    path = tmp_path / "x.mcap"
+    writer = RecordingWriter(path)
+    messages = _messages(50)
+    for topic, log_ns, pub_ns, seq, data in messages:
+        writer.add(writer.channel_for(topic, None, "cdr"), log_ns, pub_ns, seq, data)
+    writer.flush(wait=False)  # returns with the fsync still held up
+    assert synced == []
+    waiter = threading.Thread(target=writer.flush)
+    waiter.start()
+    waiter.join(0.5)
+    assert waiter.is_alive()  # a waiting flush waits for its fsync
+    slow_disk.set()
+    waiter.join(30)
+    assert not waiter.is_alive() and len(synced) == 2
+    streamed = []
+    with open(path, "rb") as fh, pytest.raises(Exception):  # noqa: B017 - no footer yet: the read ends in an error
+        for _s, _c, m in NonSeekingReader(fh).iter_messages(log_time_order=False):
+            streamed.append(m.data)
+    assert streamed == [m[4] for m in messages]  # what was flushed is in the file before it is finished
+    writer.finish()
