@@ -11,9 +11,11 @@ JointState payloads pre-encoded and only the stamp patched per tick):
    end-to-end latency p50/p99 from sample stamp (header.stamp) to write (MCAP log_time), and the
    recorder's peak RSS;
 3. throughput: a flood of messages published as fast as the recorder accepts them (blocking
-   congestion control); recorder messages/s next to the baseline's, with their ratio. ``--flood-rounds``
-   rounds, each the baseline then the flood, so both see the same state of a shared machine; the
-   medians and the ratios' spread are reported;
+   congestion control); recorder messages/s next to the baseline's, with their ratio. Beside them, the
+   same flood into a bare Python Zenoh subscriber that only takes each sample and its fields: what
+   Zenoh delivers to Python on this machine at all, the ceiling of any recorder written in Python.
+   ``--flood-rounds`` rounds, each the baseline, the bare subscriber's flood, then the recorder's, so
+   all three see the same state of a shared machine; the medians and the ratios' spread are reported;
 4. memory: the recorder's RSS sampled over a longer run (``--memory-seconds``, ``--memory-axes``):
    its growth over the second half (after warm-up) and its trend there (MB/min, least squares).
 """
@@ -36,6 +38,8 @@ from axisflow.processes import Launcher, free_port
 
 PUBLISHER_ENTRY = "axisflow.benchmarks.pipeline:publisher_main"
 """the publisher process: ``PORT AXES SECONDS SPEED``"""
+RAW_SUBSCRIBER_ENTRY = "axisflow.benchmarks.pipeline:raw_subscriber_main"
+"""the reference subscriber process of the flood: ``PORT MESSAGES``"""
 DEFAULT_AXES = "8,16,32,48,64,96,128,192,256"
 KEEP_UP_P99_US = 100_000.0
 """a step passes if nothing is lost *and* the recorder keeps up in real time: p99 stamp→write ≤ 100 ms
@@ -139,6 +143,51 @@ def publisher_main() -> None:
     print(
         json.dumps({"matched": matched, "ticks": n_ticks, "axes": n_axes, "wall_s": wall, "late_ticks": late})
     )
+
+
+def raw_subscriber_main() -> None:
+    """Entry of the reference subscriber: ``PORT MESSAGES``. Listens on PORT, takes MESSAGES samples
+    (key, attachment and payload bytes of each, nothing written), prints one JSON line with its rate
+    over the span from the first sample to the last."""
+    import zenoh
+    from axisflow.acquisition import ZenohOptions, open_session
+    from axisflow.acquisition.logs.recorder_config import DEFAULT_QUEUE_CAPACITY
+    from axisflow.acquisition.wire.keys import all_keys
+
+    from axisflow.processes import notify_ready
+
+    port, n = int(sys.argv[1]), int(sys.argv[2])
+    with open_session(ZenohOptions.loopback(listen_port=port)) as session:
+        sub = session.declare_subscriber(all_keys(), zenoh.handlers.FifoChannel(DEFAULT_QUEUE_CAPACITY))
+        notify_ready()
+        recv, taken, first = sub.try_recv, 0, 0
+        while taken < n:
+            sample = recv()
+            if sample is None:
+                time.sleep(0.0005)  # the recorder's idle wait
+                continue
+            if not taken:
+                first = time.perf_counter_ns()
+            str(sample.key_expr), sample.attachment.to_bytes(), sample.payload.to_bytes()
+            taken += 1
+        span_s = (time.perf_counter_ns() - first) * 1e-9
+        sub.undeclare()
+    print(json.dumps({"messages": taken, "msgs_per_s": taken / span_s if span_s > 0 else 0.0}))
+
+
+def _raw_flood(tmp: Path, n_keys: int, n: int) -> float:
+    """Messages/s of the bare subscriber taking a flood of ``n`` messages on ``n_keys`` keys."""
+    port = free_port()
+    with Launcher(tmp / "logs") as launcher:
+        sub = launcher.start("bare-subscriber", str(port), str(n), entry=RAW_SUBSCRIBER_ENTRY, ready=True)
+        launcher.wait_ready(sub, 60.0)
+        pub = launcher.start("publisher", str(port), str(n_keys), str(n / n_keys / EXECUTION_RATE_HZ), "0",
+                             entry=PUBLISHER_ENTRY)  # fmt: skip
+        published = launcher.wait(pub)
+        taken = launcher.wait(sub)
+    if published.returncode != 0 or taken.returncode != 0 or not taken.stdout.strip():
+        raise RuntimeError(f"bare-subscriber flood failed: {published.stderr[-1000:]} {taken.stderr[-1000:]}")
+    return float(json.loads(taken.stdout.strip().splitlines()[-1])["msgs_per_s"])
 
 
 # --------------------------------------------------------------------------- helpers
@@ -289,23 +338,28 @@ def run(args: argparse.Namespace) -> int:
         rounds = []
         for k in range(args.flood_rounds):
             baseline = _baseline_writer(args.flood, tmp)
+            bare = _raw_flood(tmp, n_keys, args.flood)
             flood = _run_step(tmp, n_keys, args.flood / n_keys / EXECUTION_RATE_HZ, speed=0.0)
             # the recorder's rate: messages over the span of their write times (first to last log_time)
             rate = flood["recorded"] / flood["write_span_s"] if flood["write_span_s"] else 0.0
-            rounds.append({"baseline_msgs_per_s": baseline, "msgs_per_s": rate, "lost": flood["lost"],
-                           "messages": flood["recorded"], "ratio": rate / baseline})  # fmt: skip
-            _progress(
-                args, f"flood {k + 1}/{args.flood_rounds}: {rate:.0f} msg/s, baseline {baseline:.0f} msg/s"
-            )
+            rounds.append({
+                "baseline_msgs_per_s": baseline, "bare_subscriber_msgs_per_s": bare, "msgs_per_s": rate,
+                "lost": flood["lost"], "messages": flood["recorded"], "ratio": rate / baseline,
+            })  # fmt: skip
+            _progress(args, f"flood {k + 1}/{args.flood_rounds}: recorder {rate:.0f} msg/s, baseline "
+                            f"{baseline:.0f} msg/s, bare subscriber {bare:.0f} msg/s")  # fmt: skip
         flood_rate = float(np.median([r["msgs_per_s"] for r in rounds]))
         baseline = float(np.median([r["baseline_msgs_per_s"] for r in rounds]))
         ratios = [r["ratio"] for r in rounds]
+        bare = float(np.median([r["bare_subscriber_msgs_per_s"] for r in rounds]))
         result["baseline_writer_msgs_per_s"] = baseline
+        result["bare_subscriber_msgs_per_s"] = bare
         result["recorder_flood"] = {
             "messages": sum(r["messages"] for r in rounds),
             "lost": sum(r["lost"] for r in rounds),
             "msgs_per_s": flood_rate,
             "ratio_to_baseline": flood_rate / baseline,
+            "ratio_to_bare_subscriber": flood_rate / bare,
             "ratio_min": min(ratios),
             "ratio_max": max(ratios),
             "rounds": rounds,
@@ -382,6 +436,11 @@ def _print_table(r: dict) -> None:
         f"({f['messages']} msgs, lost {f['lost']}) vs plain mcap Writer "
         f"{r['baseline_writer_msgs_per_s']:.0f} msg/s in-process: "
         f"ratio {f['ratio_to_baseline']:.2f} ({spread})"
+    )
+    bare = f"{r['bare_subscriber_msgs_per_s']:.0f} msg/s of the same flood"
+    print(
+        f"            a bare Python Zenoh subscriber (no recording) takes {bare}: "
+        f"the recorder reaches {f['ratio_to_bare_subscriber']:.2f} of it"
     )
     if "memory" in r:
         m = r["memory"]
