@@ -146,9 +146,9 @@ def publisher_main() -> None:
 
 
 def raw_subscriber_main() -> None:
-    """Entry of the reference subscriber: ``PORT MESSAGES``. Listens on PORT, takes MESSAGES samples
-    (key, attachment and payload bytes of each, nothing written), prints one JSON line with its rate
-    over the span from the first sample to the last."""
+    """Entry of the reference subscriber: ``PORT MESSAGES``. Listens on PORT, takes samples (key,
+    attachment and payload bytes of each, nothing written) until MESSAGES have come or none has for
+    2 s, prints one JSON line: how many, and their rate from the first to the last."""
     import zenoh
     from axisflow.acquisition import ZenohOptions, open_session
     from axisflow.acquisition.logs.recorder_config import DEFAULT_QUEUE_CAPACITY
@@ -160,34 +160,42 @@ def raw_subscriber_main() -> None:
     with open_session(ZenohOptions.loopback(listen_port=port)) as session:
         sub = session.declare_subscriber(all_keys(), zenoh.handlers.FifoChannel(DEFAULT_QUEUE_CAPACITY))
         notify_ready()
-        recv, taken, first = sub.try_recv, 0, 0
+        recv, taken, first, last = sub.try_recv, 0, 0, time.perf_counter_ns()
         while taken < n:
             sample = recv()
             if sample is None:
+                if taken and time.perf_counter_ns() - last > 2_000_000_000:
+                    break  # the publisher is done: some were lost
                 time.sleep(0.0005)  # the recorder's idle wait
                 continue
+            last = time.perf_counter_ns()
             if not taken:
-                first = time.perf_counter_ns()
+                first = last
             str(sample.key_expr), sample.attachment.to_bytes(), sample.payload.to_bytes()
             taken += 1
-        span_s = (time.perf_counter_ns() - first) * 1e-9
+        span_s = (last - first) * 1e-9
         sub.undeclare()
     print(json.dumps({"messages": taken, "msgs_per_s": taken / span_s if span_s > 0 else 0.0}))
 
 
-def _raw_flood(tmp: Path, n_keys: int, n: int) -> float:
-    """Messages/s of the bare subscriber taking a flood of ``n`` messages on ``n_keys`` keys."""
+def _raw_flood(tmp: Path, n_keys: int, n: int) -> tuple[float, int]:
+    """The bare subscriber taking a flood of ``n`` messages on ``n_keys`` keys: messages/s, and how many
+    it did not get."""
     port = free_port()
     with Launcher(tmp / "logs") as launcher:
         sub = launcher.start("bare-subscriber", str(port), str(n), entry=RAW_SUBSCRIBER_ENTRY, ready=True)
         launcher.wait_ready(sub, 60.0)
         pub = launcher.start("publisher", str(port), str(n_keys), str(n / n_keys / EXECUTION_RATE_HZ), "0",
                              entry=PUBLISHER_ENTRY)  # fmt: skip
-        published = launcher.wait(pub)
-        taken = launcher.wait(sub)
+        published = launcher.wait(pub, 60.0)
+        taken = launcher.wait(sub, 60.0)
     if published.returncode != 0 or taken.returncode != 0 or not taken.stdout.strip():
-        raise RuntimeError(f"bare-subscriber flood failed: {published.stderr[-1000:]} {taken.stderr[-1000:]}")
-    return float(json.loads(taken.stdout.strip().splitlines()[-1])["msgs_per_s"])
+        raise RuntimeError(
+            f"bare-subscriber flood failed (publisher exit {published.returncode}, subscriber exit "
+            f"{taken.returncode}): {published.stderr[-1000:]} {taken.stderr[-1000:]}"
+        )
+    result = json.loads(taken.stdout.strip().splitlines()[-1])
+    return float(result["msgs_per_s"]), n - int(result["messages"])
 
 
 # --------------------------------------------------------------------------- helpers
@@ -338,13 +346,14 @@ def run(args: argparse.Namespace) -> int:
         rounds = []
         for k in range(args.flood_rounds):
             baseline = _baseline_writer(args.flood, tmp)
-            bare = _raw_flood(tmp, n_keys, args.flood)
+            bare, bare_lost = _raw_flood(tmp, n_keys, args.flood)
             flood = _run_step(tmp, n_keys, args.flood / n_keys / EXECUTION_RATE_HZ, speed=0.0)
             # the recorder's rate: messages over the span of their write times (first to last log_time)
             rate = flood["recorded"] / flood["write_span_s"] if flood["write_span_s"] else 0.0
             rounds.append({
-                "baseline_msgs_per_s": baseline, "bare_subscriber_msgs_per_s": bare, "msgs_per_s": rate,
-                "lost": flood["lost"], "messages": flood["recorded"], "ratio": rate / baseline,
+                "baseline_msgs_per_s": baseline, "msgs_per_s": rate, "ratio": rate / baseline,
+                "lost": flood["lost"], "messages": flood["recorded"],
+                "bare_subscriber_msgs_per_s": bare, "bare_subscriber_lost": bare_lost,
             })  # fmt: skip
             _progress(args, f"flood {k + 1}/{args.flood_rounds}: recorder {rate:.0f} msg/s, baseline "
                             f"{baseline:.0f} msg/s, bare subscriber {bare:.0f} msg/s")  # fmt: skip
@@ -437,7 +446,8 @@ def _print_table(r: dict) -> None:
         f"{r['baseline_writer_msgs_per_s']:.0f} msg/s in-process: "
         f"ratio {f['ratio_to_baseline']:.2f} ({spread})"
     )
-    bare = f"{r['bare_subscriber_msgs_per_s']:.0f} msg/s of the same flood"
+    bare_lost = sum(x["bare_subscriber_lost"] for x in f["rounds"])
+    bare = f"{r['bare_subscriber_msgs_per_s']:.0f} msg/s of the same flood (lost {bare_lost})"
     print(
         f"            a bare Python Zenoh subscriber (no recording) takes {bare}: "
         f"the recorder reaches {f['ratio_to_bare_subscriber']:.2f} of it"
