@@ -293,7 +293,7 @@ def _run_step(tmp: Path, n_axes: int, seconds: float, speed: float = 1.0, sample
 
 
 def _baseline_writer(n: int, tmp: Path) -> float:
-    """Messages/s of a plain mcap Writer (zstd, 1 s-sized chunks) with pre-encoded JointState."""
+    """Messages/s of a plain mcap Writer (zstd, its default chunk size) with pre-encoded JointState."""
     from axisflow.acquisition.wire.keys import AxisKeys, topic_for_key
     from axisflow.acquisition.wire.messages import JOINT_STATE_SCHEMA
     from mcap.writer import CompressionType, Writer
