@@ -125,6 +125,16 @@ def all_keys(prefix: str = DEFAULT_PREFIX) -> str:
     return f"{prefix}/**"
 
 
+def key_within(expression: str, chunk: str) -> str:
+    """A key (no wildcards) that ``expression`` matches: each ``*`` or ``**`` chunk, and each ``$*``
+    inside a chunk, replaced by ``chunk`` (a plain chunk: wildcards do not match a verbatim ``@…``)."""
+    _check_chunk("filler chunk", chunk, allow_slash=False)
+    if chunk.startswith("@"):
+        raise KeyExprError(f"filler chunk {chunk!r} is verbatim (starts with '@'): no wildcard matches it")
+    parts = expression.split("/")
+    return "/".join(chunk if part in ("*", "**") else part.replace("$*", chunk) for part in parts)
+
+
 def topic_for_key(key: str) -> str:
     """MCAP topic of a key expression: ``/`` + key."""
     return "/" + key
