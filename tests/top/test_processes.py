@@ -112,3 +112,41 @@ def test_a_stop_signal_that_lands_inside_the_events_own_wait_still_stops():
         [sys.executable, "-c", _SIGNAL_INSIDE_WAIT], capture_output=True, text=True, timeout=30
     )
     assert (done.returncode, done.stdout.strip(), done.stderr) == (0, "set", "")
+
+
+def _thread_state(tid: int) -> str:
+    """The scheduler state of a thread (R running, S sleeping, …)."""
+    stat = Path(f"/proc/{tid}/stat").read_text()
+    return stat[stat.rindex(")") + 2]
+
+
+_SIGNAL_WHILE_BLOCKED_IN_ZENOH = """
+import sys, threading, zenoh
+from axisflow.acquisition import ZenohOptions, open_session
+from axisflow.processes import stop_on_signals
+
+with stop_on_signals() as stop, open_session(ZenohOptions.loopback()) as session:
+    sub = session.declare_subscriber("wake/**", zenoh.handlers.FifoChannel(4))
+    waker = session.declare_publisher("wake/up", allowed_destination=zenoh.Locality.SESSION_LOCAL)
+    threading.Thread(target=lambda: stop.wait() and waker.put(b"stop"), daemon=True).start()
+    print("blocked", flush=True)
+    sample = sub.recv()  # native code, which lets Python run the signal handler while it waits
+    print(sample.payload.to_bytes().decode(), flush=True)
+    sub.undeclare()
+    waker.undeclare()
+sys.exit(0)
+"""
+
+
+def test_a_stop_signal_sets_the_event_while_the_main_thread_waits_in_a_zenoh_recv():
+    # the recorder waits in recv() for its next sample and relies on this to stop at once
+    pipes = {"stdout": subprocess.PIPE, "stderr": subprocess.PIPE, "text": True}
+    child = subprocess.Popen([sys.executable, "-c", _SIGNAL_WHILE_BLOCKED_IN_ZENOH], **pipes)
+    try:
+        assert child.stdout.readline().strip() == "blocked"
+        assert wait_until(lambda: _thread_state(child.pid) == "S", 10.0)  # its main thread waits in recv()
+        child.send_signal(signal.SIGINT)
+        out, err = child.communicate(timeout=30)
+    finally:
+        child.kill()
+    assert (child.returncode, out.strip(), err) == (0, "stop", "")
