@@ -1,7 +1,11 @@
 """The recorder: every Zenoh key matching an expression into one (or several, split) MCAP files.
 
 Hot path. The subscriber hands samples to a Zenoh FIFO channel (filled on Zenoh's thread; when full
-it applies back-pressure instead of dropping). The recording thread drains it and, per sample, writes
+it applies back-pressure instead of dropping). The recording thread waits in the channel's blocking
+receive while it is empty, so a sample is taken the moment it arrives (a waker thread puts an empty
+sample on a key of the recorded expression, delivered only inside this session, at least every
+0.1 s and as soon as ``stop`` is set, and the loop drops it unrecorded). It drains the channel and, per
+sample, writes
 the payload bytes exactly as received (no decode, no re-encode) to the channel of topic ``/`` + key,
 with ``log_time`` = the time of writing and ``publish_time``/``sequence`` from the sender's
 attachment (:mod:`~axisflow.acquisition.wire.attachment`). A channel and its ``ros2msg`` schema are
@@ -47,7 +51,7 @@ from ..bus.session import check_key_expression
 from ..errors import RecordingError
 from ..histogram import DurationHistogram, DurationStats
 from ..wire.attachment import unpack_attachment
-from ..wire.keys import recorder_token, topic_for_key
+from ..wire.keys import key_within, recorder_token, topic_for_key
 from ..wire.sequence import SequenceTracker
 from .recorder_config import (
     LIVE_STAMP_WINDOW_NS,
@@ -60,6 +64,9 @@ from .recording_writer import LOSS_METADATA, RecordingWriter
 log = logging.getLogger(__name__)
 
 _IDLE_SLEEP_S = 0.0005
+"""how long the loop sleeps when the channel is empty and it has no waker (see :class:`_Waker`)"""
+_WAKE_PERIOD_S = 0.1
+"""the longest the loop waits in its blocking receive (it then looks at the clock: flush, deadline)"""
 _DRAIN_BATCH = 256
 """samples written before the loop looks at the clock again"""
 
@@ -193,6 +200,48 @@ class RecordSummary:
         }
 
 
+class _Waker:
+    """Wakes the recording loop out of its blocking receive: an empty sample on ``key`` (a key the
+    subscription matches), put so that only this session delivers it (it never leaves the process),
+    every :data:`_WAKE_PERIOD_S`, at ``deadline`` (monotonic) and as soon as ``stop`` is set."""
+
+    def __init__(
+        self, session: zenoh.Session, key: str, stop: threading.Event, deadline: float | None
+    ) -> None:
+        self.key = key
+        self._stop = stop
+        self._deadline = deadline
+        self._done = threading.Event()
+        self._pub = session.declare_publisher(key, allowed_destination=zenoh.Locality.SESSION_LOCAL)
+        self._thread = threading.Thread(target=self._run, name="recorder-waker", daemon=True)
+        self._thread.start()
+
+    @staticmethod
+    def key_for(expression: str) -> str | None:
+        """The waker's key for a subscription on ``expression``: one it matches and no publisher uses;
+        None for an expression without a wildcard (its only key is the data's)."""
+        key = key_within(expression, "_axisflow_recorder_wake")
+        return key if key != expression and zenoh.KeyExpr(expression).includes(zenoh.KeyExpr(key)) else None
+
+    def _run(self) -> None:
+        while not self._done.is_set():
+            wait = _WAKE_PERIOD_S
+            left = None if self._deadline is None else self._deadline - time.monotonic()
+            if left is not None and 0.0 < left < wait:
+                wait = left
+            stopped = self._stop.wait(wait)
+            if self._done.is_set():
+                return
+            self._pub.put(b"")
+            if stopped:  # the loop does not wait again after a stop
+                return
+
+    def close(self) -> None:
+        self._done.set()
+        self._thread.join()
+        self._pub.undeclare()
+
+
 class Recorder:
     """Records ``config.keys`` from a session until stopped (see the module docstring)."""
 
@@ -211,6 +260,7 @@ class Recorder:
         self._routes: dict[str, tuple[int, TopicStats]] = {}
         """per key of the open file: its channel id and its counts"""
         self._reported_drops = 0
+        self._wake_key: str | None = None
         self.ready = threading.Event()
         """set once the subscriber has joined: nothing published from then on is missed"""
 
@@ -269,19 +319,26 @@ class Recorder:
         self._routes[key] = (channel_id, stats)
         return channel_id, stats
 
-    def _drain(self, sub: zenoh.Subscriber, limit: int) -> int:
-        """Write up to ``limit`` samples waiting in the channel; returns how many were taken. Per sample:
-        the payload bytes exactly as received (no decode, no re-encode), ``log_time`` = now, the
-        attachment's stamp and sequence number; a sample the writer's backlog has no room for is
-        dropped and counted."""
+    def _drain(self, sub: zenoh.Subscriber, limit: int, first: zenoh.Sample | None = None) -> int:
+        """Write ``first`` and up to ``limit`` samples waiting in the channel in all; returns how many
+        were taken. Per sample: the payload bytes exactly as received (no decode, no re-encode),
+        ``log_time`` = now, the attachment's stamp and sequence number; a sample the writer's backlog
+        has no room for is dropped and counted; the waker's samples are dropped unrecorded."""
         writer, routes, latency, recv = self._writer, self._routes, self._latency, sub.try_recv
         assert writer is not None
         n = 0
-        while n < limit and (sample := recv()) is not None:
+        sample = first if first is not None else recv()
+        while sample is not None:
             n += 1
             now = time.time_ns()
-            route = routes.get(str(sample.key_expr))
-            channel_id, stats = route if route is not None else self._route(sample, now)
+            key = str(sample.key_expr)
+            route = routes.get(key)
+            if route is None:
+                if key == self._wake_key:
+                    sample = recv() if n < limit else None
+                    continue
+                route = self._route(sample, now)
+            channel_id, stats = route
             att = sample.attachment
             parsed = unpack_attachment(att.to_bytes()) if att is not None else None
             if parsed is not None:
@@ -298,6 +355,7 @@ class Recorder:
                 stats.last_log_ns = now
             else:
                 stats.dropped += 1
+            sample = recv() if n < limit else None
         return n
 
     def run(
@@ -327,7 +385,7 @@ class Recorder:
                 self.ready.set()
                 if on_ready is not None:
                     on_ready()
-                self._record(joined, stop, time.monotonic())
+                self._record(session, joined, stop, time.monotonic())
             except OSError as exc:  # a full disk, a file system gone read-only
                 failure = exc
             finally:
@@ -345,28 +403,41 @@ class Recorder:
             )
         return self.summary
 
-    def _record(self, joined: JoinedSubscriber, stop: threading.Event, started: float) -> None:
-        """The recording loop: drain, write, flush every ``flush_interval_s``, until stopped; then one
-        hello (draining meanwhile) and what the channel still holds of the time before it."""
+    def _record(
+        self, session: zenoh.Session, joined: JoinedSubscriber, stop: threading.Event, started: float
+    ) -> None:
+        """The recording loop: drain, write, flush every ``flush_interval_s``, wait in the channel's
+        blocking receive while it is empty, until stopped; then one hello (draining meanwhile) and what
+        the channel still holds of the time before it."""
         c = self.config
         sub = joined.subscriber
         assert sub is not None and self._writer is not None
         deadline = None if c.duration_s is None else started + c.duration_s
         next_flush = started + c.flush_interval_s
-        while True:
-            written = self._drain(sub, _DRAIN_BATCH)
-            now = time.monotonic()
-            if now >= next_flush:
-                self._writer.flush(wait=False)  # the writer thread fsyncs; receiving goes on
-                next_flush = now + c.flush_interval_s
-                self._report_drops()
-                if self._split:
-                    self._maybe_split()
-            if stop.is_set() or (deadline is not None and now >= deadline):
-                joined.flush(while_waiting=lambda: self._drain(sub, _DRAIN_BATCH))
-                # everything sent before the hello is in the channel now, behind at most its capacity
-                # (a bridge at speed 0 refills it as fast as it is drained: take no more than that)
-                self._drain(sub, c.queue_capacity)
-                return
-            if not written:
-                time.sleep(_IDLE_SLEEP_S)
+        self._wake_key = _Waker.key_for(c.keys)
+        waker = None if self._wake_key is None else _Waker(session, self._wake_key, stop, deadline)
+        try:
+            while True:
+                written = self._drain(sub, _DRAIN_BATCH)
+                now = time.monotonic()
+                if now >= next_flush:
+                    self._writer.flush(wait=False)  # the writer thread fsyncs; receiving goes on
+                    next_flush = now + c.flush_interval_s
+                    self._report_drops()
+                    if self._split:
+                        self._maybe_split()
+                if stop.is_set() or (deadline is not None and now >= deadline):
+                    joined.flush(while_waiting=lambda: self._drain(sub, _DRAIN_BATCH))
+                    # everything sent before the hello is in the channel now, behind at most its capacity
+                    # (a bridge at speed 0 refills it as fast as it is drained: take no more than that)
+                    self._drain(sub, c.queue_capacity)
+                    return
+                if written:
+                    continue
+                if waker is not None:
+                    self._drain(sub, _DRAIN_BATCH, sub.recv())  # until a sample comes, or the waker's
+                else:  # a subscription on one key: nothing to wake the receive with
+                    time.sleep(_IDLE_SLEEP_S)
+        finally:
+            if waker is not None:
+                waker.close()

@@ -82,3 +82,34 @@ def test_an_empty_recording_says_that_nothing_matched(tmp_path, port):
     summary, error = _record_while(port, RecorderConfig(output=tmp_path / "e.mcap"), lambda _s: None)
     assert error is None
     assert "no message matched axisflow/**: is a publisher running" in summary.format()
+
+
+@pytest.mark.parametrize("keys", ["axisflow/**", "axisflow/a0/state"], ids=["waker", "one-key"])
+def test_an_idle_recorder_flushes_on_time_stops_at_once_and_records_no_wake_up(tmp_path, port, keys):
+    """While nothing comes, the loop waits in the channel's receive; the waker's samples (on a key of
+    the expression) still let it flush and stop, and never reach the file. A subscription on one key
+    has no such key: it polls."""
+    path = tmp_path / "idle.mcap"
+    config = RecorderConfig(keys=keys, output=path, flush_interval_s=0.05)
+    stop = threading.Event()
+    recorder = Recorder(config)
+    with (
+        open_session(ZenohOptions.loopback(listen_port=port)) as rec_session,
+        open_session(ZenohOptions.loopback(connect_port=port)) as pub_session,
+    ):
+        thread = threading.Thread(target=recorder.run, args=(rec_session, stop))
+        thread.start()
+        assert recorder.ready.wait(10.0)
+        assert wait_for_token(pub_session, recorder_token(socket.gethostname(), os.getpid()), 10.0)
+        pub_session.put("axisflow/a0/state", b"one")
+        # the message reaches the disk only through a flush after it, which the idle loop does when
+        # something wakes its receive
+        assert wait_until(lambda: b"one" in path.read_bytes(), 10.0)
+        stop.set()
+        thread.join(timeout=10)
+        assert not thread.is_alive()
+    with open(path, "rb") as fh:
+        reader = make_reader(fh)
+        topics = [c.topic for c in reader.get_summary().channels.values()]
+        assert [m.data for _s, _c, m in reader.iter_messages()] == [b"one"]
+    assert topics == ["/axisflow/a0/state"] and list(recorder.summary.topics) == topics
