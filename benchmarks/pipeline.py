@@ -34,7 +34,7 @@ import numpy as np
 from axisflow.model import EXECUTION_RATE_HZ
 
 from axisflow.arguments import positive_int
-from axisflow.processes import Launcher, free_port
+from axisflow.processes import Launcher, free_port, thread_cpu_seconds
 
 PUBLISHER_ENTRY = "axisflow.benchmarks.pipeline:publisher_main"
 """the publisher process: ``PORT AXES SECONDS SPEED``"""
@@ -137,21 +137,34 @@ def publisher_main() -> None:
         templates = [payload_template(f"bench{i}") for i in range(n_axes)]
         matched = wait_for_subscribers(pubs, 15.0)
         n_ticks = round(seconds * EXECUTION_RATE_HZ)
+        cpu0 = time.process_time()
         wall, late = play(pubs, templates, n_ticks, paced=speed > 0)
+        cpu_s = time.process_time() - cpu0
         for pub in pubs:
             pub.undeclare()
     print(
-        json.dumps({"matched": matched, "ticks": n_ticks, "axes": n_axes, "wall_s": wall, "late_ticks": late})
+        json.dumps(
+            {
+                "matched": matched,
+                "ticks": n_ticks,
+                "axes": n_axes,
+                "wall_s": wall,
+                "late_ticks": late,
+                "cpu_s": cpu_s,
+            }
+        )
     )
 
 
 def raw_subscriber_main() -> None:
     """Entry of the reference subscriber: ``PORT MESSAGES``. Listens on PORT, takes samples (key,
     attachment and payload bytes of each, nothing written) until MESSAGES have come or none has for
-    2 s, prints one JSON line: how many, and their rate from the first to the last."""
+    2 s, prints one JSON line: how many, their rate from the first to the last, and how many each
+    key's first sample says it missed before it (it starts at once, without the recorder's join)."""
     import zenoh
     from axisflow.acquisition import ZenohOptions, open_session
     from axisflow.acquisition.logs.recorder_config import DEFAULT_QUEUE_CAPACITY
+    from axisflow.acquisition.wire.attachment import unpack_attachment
     from axisflow.acquisition.wire.keys import all_keys
 
     from axisflow.processes import notify_ready
@@ -161,6 +174,7 @@ def raw_subscriber_main() -> None:
         sub = session.declare_subscriber(all_keys(), zenoh.handlers.FifoChannel(DEFAULT_QUEUE_CAPACITY))
         notify_ready()
         recv, taken, first, last = sub.try_recv, 0, 0, time.perf_counter_ns()
+        first_sequence: dict[str, int] = {}
         while taken < n:
             sample = recv()
             if sample is None:
@@ -171,16 +185,21 @@ def raw_subscriber_main() -> None:
             last = time.perf_counter_ns()
             if not taken:
                 first = last
-            str(sample.key_expr), sample.attachment.to_bytes(), sample.payload.to_bytes()
+            key, attachment = str(sample.key_expr), sample.attachment.to_bytes()
+            sample.payload.to_bytes()
+            if key not in first_sequence:
+                first_sequence[key] = (unpack_attachment(attachment) or (1,))[0]
             taken += 1
         span_s = (last - first) * 1e-9
         sub.undeclare()
-    print(json.dumps({"messages": taken, "msgs_per_s": taken / span_s if span_s > 0 else 0.0}))
+    missed_at_start = sum(seq - 1 for seq in first_sequence.values())
+    print(json.dumps({"messages": taken, "msgs_per_s": taken / span_s if span_s > 0 else 0.0,
+                      "missed_at_start": missed_at_start}))  # fmt: skip
 
 
-def _raw_flood(tmp: Path, n_keys: int, n: int) -> tuple[float, int]:
-    """The bare subscriber taking a flood of ``n`` messages on ``n_keys`` keys: messages/s, and how many
-    it did not get."""
+def _raw_flood(tmp: Path, n_keys: int, n: int) -> tuple[float, int, int]:
+    """The bare subscriber taking a flood of ``n`` messages on ``n_keys`` keys: messages/s, how many it
+    did not get, and how many of those before its first sample of each key."""
     port = free_port()
     with Launcher(tmp / "logs") as launcher:
         sub = launcher.start("bare-subscriber", str(port), str(n), entry=RAW_SUBSCRIBER_ENTRY, ready=True)
@@ -195,7 +214,7 @@ def _raw_flood(tmp: Path, n_keys: int, n: int) -> tuple[float, int]:
             f"{taken.returncode}): {published.stderr[-1000:]} {taken.stderr[-1000:]}"
         )
     result = json.loads(taken.stdout.strip().splitlines()[-1])
-    return float(result["msgs_per_s"]), n - int(result["messages"])
+    return float(result["msgs_per_s"]), n - int(result["messages"]), int(result["missed_at_start"])
 
 
 # --------------------------------------------------------------------------- helpers
@@ -211,8 +230,9 @@ def rss_kb(pid: int, field: str = "VmRSS") -> int:
     return 0
 
 
-def analyse_recording(path: Path) -> dict[str, object]:
-    """Counts, gaps and stamp→write latency of a benchmark recording."""
+def analyse_recording(path: Path, cut_ns: int | None = None) -> dict[str, object]:
+    """Counts, gaps and stamp→write latency of a benchmark recording; with ``cut_ns``, also how many
+    were written by then (log time ≤ ``cut_ns``)."""
     from axisflow.acquisition import iter_recording
     from axisflow.acquisition.wire.sequence import SequenceTracker
 
@@ -220,8 +240,10 @@ def analyse_recording(path: Path) -> dict[str, object]:
     sequences: dict[str, SequenceTracker] = {}
     lat: list[int] = []
     first_log, last_log = None, 0
+    by_cut = 0
     for rec in iter_recording(path):
         topic, m = rec.channel.topic, rec.message
+        by_cut += cut_ns is not None and m.log_time <= cut_ns
         first_log = m.log_time if first_log is None else min(first_log, m.log_time)
         last_log = max(last_log, m.log_time)
         counts[topic] = counts.get(topic, 0) + 1
@@ -237,6 +259,7 @@ def analyse_recording(path: Path) -> dict[str, object]:
         "write_span_s": (last_log - first_log) * 1e-9 if first_log is not None else 0.0,
         "latency_p50_us": float(np.percentile(arr, 50)) / 1e3,
         "latency_p99_us": float(np.percentile(arr, 99)) / 1e3,
+        "recorded_by_cut": by_cut,
     }
 
 
@@ -254,10 +277,13 @@ def _run_step(tmp: Path, n_axes: int, seconds: float, speed: float = 1.0, sample
             "publisher", str(port), str(n_axes), str(seconds), str(speed), entry=PUBLISHER_ENTRY
         )
         t0 = time.monotonic()
+        cpu_before = thread_cpu_seconds(rec.pid)
         while pub.poll() is None:
             if sample_rss:
                 rss_trace.append((time.monotonic() - t0, rss_kb(rec.pid)))
             time.sleep(0.25)  # the sampling period of the RSS trace
+        # the recorder's CPU up to now, against the messages it wrote up to now
+        cpu_after, cut_ns = thread_cpu_seconds(rec.pid), time.time_ns()
         published = launcher.wait(pub)
         peak_kb = rss_kb(rec.pid, "VmHWM")
         recorded = launcher.stop(rec, 60.0)  # its stop proves the publisher's last samples arrived
@@ -268,7 +294,7 @@ def _run_step(tmp: Path, n_axes: int, seconds: float, speed: float = 1.0, sample
     if not p["matched"]:
         raise RuntimeError(f"the publisher found no recorder subscribed within 15 s ({n_axes} axes)")
     summary = json.loads(rec_out) if rec_out.strip() else {}
-    a = analyse_recording(out)
+    a = analyse_recording(out, cut_ns)
     published = p["ticks"] * p["axes"]
     out.unlink(missing_ok=True)
     return {
@@ -289,7 +315,33 @@ def _run_step(tmp: Path, n_axes: int, seconds: float, speed: float = 1.0, sample
         "rss_trace": rss_trace,
         "recorder_wall_s": summary.get("wall_time_s"),
         "write_span_s": a["write_span_s"],
+        "cpu_us_per_message": _cpu_per_message(rec.pid, cpu_before, cpu_after, a["recorded_by_cut"], p),
     }
+
+
+def _cpu_per_message(
+    rec_pid: int,
+    before: dict[int, tuple[str, float]],
+    after: dict[int, tuple[str, float]],
+    written: int,
+    pub: dict,
+) -> dict[str, float]:
+    """CPU µs per message: the recorder's main thread, its Zenoh receive threads and its other threads
+    (the chunk writer, Zenoh's others) up to the cut, and the publisher process while it published."""
+    spent = {"recorder_main": 0.0, "recorder_zenoh_rx": 0.0, "recorder_other": 0.0}
+    for tid, (name, seconds) in after.items():
+        group = (
+            "recorder_main"
+            if tid == rec_pid
+            else "recorder_zenoh_rx"
+            if name.startswith("rx-")
+            else "recorder_other"
+        )
+        spent[group] += seconds - before.get(tid, (name, 0.0))[1]
+    per = {k: v / written * 1e6 if written else float("nan") for k, v in spent.items()}
+    messages = pub["ticks"] * pub["axes"]
+    per["publisher"] = pub["cpu_s"] / messages * 1e6 if messages else float("nan")
+    return per
 
 
 def _baseline_writer(n: int, tmp: Path) -> float:
@@ -346,7 +398,7 @@ def run(args: argparse.Namespace) -> int:
         rounds = []
         for k in range(args.flood_rounds):
             baseline = _baseline_writer(args.flood, tmp)
-            bare, bare_lost = _raw_flood(tmp, n_keys, args.flood)
+            bare, bare_lost, bare_missed_at_start = _raw_flood(tmp, n_keys, args.flood)
             flood = _run_step(tmp, n_keys, args.flood / n_keys / EXECUTION_RATE_HZ, speed=0.0)
             # the recorder's rate: messages over the span of their write times (first to last log_time)
             rate = flood["recorded"] / flood["write_span_s"] if flood["write_span_s"] else 0.0
@@ -354,6 +406,8 @@ def run(args: argparse.Namespace) -> int:
                 "baseline_msgs_per_s": baseline, "msgs_per_s": rate, "ratio": rate / baseline,
                 "lost": flood["lost"], "messages": flood["recorded"],
                 "bare_subscriber_msgs_per_s": bare, "bare_subscriber_lost": bare_lost,
+                "bare_subscriber_missed_at_start": bare_missed_at_start,
+                "cpu_us_per_message": flood["cpu_us_per_message"],
             })  # fmt: skip
             _progress(args, f"flood {k + 1}/{args.flood_rounds}: recorder {rate:.0f} msg/s, baseline "
                             f"{baseline:.0f} msg/s, bare subscriber {bare:.0f} msg/s")  # fmt: skip
@@ -369,6 +423,10 @@ def run(args: argparse.Namespace) -> int:
             "msgs_per_s": flood_rate,
             "ratio_to_baseline": flood_rate / baseline,
             "ratio_to_bare_subscriber": flood_rate / bare,
+            "cpu_us_per_message": {
+                k: float(np.median([r["cpu_us_per_message"][k] for r in rounds]))
+                for k in rounds[0]["cpu_us_per_message"]
+            },
             "ratio_min": min(ratios),
             "ratio_max": max(ratios),
             "rounds": rounds,
@@ -447,10 +505,20 @@ def _print_table(r: dict) -> None:
         f"ratio {f['ratio_to_baseline']:.2f} ({spread})"
     )
     bare_lost = sum(x["bare_subscriber_lost"] for x in f["rounds"])
-    bare = f"{r['bare_subscriber_msgs_per_s']:.0f} msg/s of the same flood (lost {bare_lost})"
+    at_start = sum(x["bare_subscriber_missed_at_start"] for x in f["rounds"])
+    lost = f"lost {bare_lost}, {at_start} at the start"
+    bare = f"{r['bare_subscriber_msgs_per_s']:.0f} msg/s of the same flood ({lost})"
     print(
         f"            a bare Python Zenoh subscriber (no recording) takes {bare}: "
         f"the recorder reaches {f['ratio_to_bare_subscriber']:.2f} of it"
+    )
+    cpu = f["cpu_us_per_message"]
+    print(
+        f"            CPU per message (medians): recorder main thread {cpu['recorder_main']:.2f} µs, "
+        f"its Zenoh receive {cpu['recorder_zenoh_rx']:.2f} µs, "
+        f"its other threads {cpu['recorder_other']:.2f} µs; "
+        f"publisher {cpu['publisher']:.2f} µs; the baseline Writer "
+        f"{1e6 / r['baseline_writer_msgs_per_s']:.2f} µs on one thread"
     )
     if "memory" in r:
         m = r["memory"]
