@@ -17,7 +17,8 @@ JointState payloads pre-encoded and only the stamp patched per tick):
    ``--flood-rounds`` rounds, each the baseline, the bare subscriber's flood, then the recorder's, so
    all three see the same state of a shared machine; the medians and the ratios' spread are reported;
 4. memory: the recorder's RSS sampled over a longer run (``--memory-seconds``, ``--memory-axes``):
-   its growth over the second half (after warm-up) and its trend there (MB/min, least squares).
+   its growth over the second half (after warm-up) and its trend there (MB/min, least squares);
+5. idle: the CPU a ready recorder uses while nothing comes (``--idle-seconds``), as a share of a core.
 """
 
 from __future__ import annotations
@@ -33,8 +34,8 @@ from pathlib import Path
 import numpy as np
 from axisflow.model import EXECUTION_RATE_HZ
 
-from axisflow.arguments import positive_int
-from axisflow.processes import Launcher, free_port, thread_cpu_seconds
+from axisflow.arguments import finite_float, positive_int
+from axisflow.processes import Launcher, cpu_seconds, free_port, thread_cpu_seconds
 
 PUBLISHER_ENTRY = "axisflow.benchmarks.pipeline:publisher_main"
 """the publisher process: ``PORT AXES SECONDS SPEED``"""
@@ -66,9 +67,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=DEFAULT_AXES,
         help=f"axis counts to try, ascending (default {DEFAULT_AXES})",
     )
-    parser.add_argument("--seconds", type=float, default=3.0, help="run time per axis count [s] (default 3)")
     parser.add_argument(
-        "--budget", type=float, default=60.0, help="stop the capacity search after [s] (default 60)"
+        "--seconds", type=finite_float, default=3.0, help="run time per axis count [s] (default 3)"
+    )
+    parser.add_argument(
+        "--budget", type=finite_float, default=60.0, help="stop the capacity search after [s] (default 60)"
     )
     parser.add_argument(
         "--flood",
@@ -84,11 +87,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--memory-seconds",
-        type=float,
+        type=finite_float,
         default=30.0,
         help="length of the memory run [s] (default 30; 0 = skip)",
     )
     parser.add_argument("--memory-axes", type=int, default=16, help="axes in the memory run (default 16)")
+    parser.add_argument(
+        "--idle-seconds",
+        type=finite_float,
+        default=10.0,
+        help="how long to watch an idle recorder's CPU [s] (default 10; 0 = skip)",
+    )
 
 
 # --------------------------------------------------------------------------- publisher process
@@ -180,7 +189,7 @@ def raw_subscriber_main() -> None:
             if sample is None:
                 if taken and time.perf_counter_ns() - last > 2_000_000_000:
                     break  # the publisher is done: some were lost
-                time.sleep(0.0005)  # the recorder's idle wait
+                time.sleep(0.0005)  # (a flood seldom leaves the channel empty)
                 continue
             last = time.perf_counter_ns()
             if not taken:
@@ -319,6 +328,22 @@ def _run_step(tmp: Path, n_axes: int, seconds: float, speed: float = 1.0, sample
     }
 
 
+def _idle_cpu_percent(tmp: Path, seconds: float) -> float:
+    """The CPU a ready recorder uses over ``seconds`` with no publisher, in % of one core."""
+    with Launcher(tmp / "logs") as launcher:
+        rec = launcher.start(
+            "recorder", "record", "-o", str(tmp / "idle.mcap"), "--listen", f"tcp/127.0.0.1:{free_port()}",
+            "--json", ready=True,
+        )  # fmt: skip
+        launcher.wait_ready(rec, 60.0)
+        cpu0, t0 = cpu_seconds(rec.pid), time.monotonic()
+        time.sleep(seconds)  # the window watched
+        cpu1, t1 = cpu_seconds(rec.pid), time.monotonic()
+        launcher.stop(rec, 60.0)
+    (tmp / "idle.mcap").unlink(missing_ok=True)
+    return (cpu1 - cpu0) / (t1 - t0) * 100.0
+
+
 def _cpu_per_message(
     rec_pid: int,
     before: dict[int, tuple[str, float]],
@@ -432,6 +457,9 @@ def run(args: argparse.Namespace) -> int:
             "rounds": rounds,
         }
 
+        if args.idle_seconds > 0:
+            result["idle_recorder_cpu_percent"] = _idle_cpu_percent(tmp, args.idle_seconds)
+
         if args.memory_seconds > 0:
             mem = _run_step(tmp, args.memory_axes, args.memory_seconds, sample_rss=True)
             trace = [(t, kb / 1024) for t, kb in mem["rss_trace"] if kb > 0]
@@ -520,6 +548,9 @@ def _print_table(r: dict) -> None:
         f"publisher {cpu['publisher']:.2f} µs; the baseline Writer "
         f"{1e6 / r['baseline_writer_msgs_per_s']:.2f} µs on one thread"
     )
+    if "idle_recorder_cpu_percent" in r:
+        idle = r["idle_recorder_cpu_percent"]
+        print(f"idle: a ready recorder with nothing to record uses {idle:.2f} % of a core (to 1 clock tick)")
     if "memory" in r:
         m = r["memory"]
         print(

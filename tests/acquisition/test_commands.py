@@ -110,7 +110,8 @@ def test_pipeline_benchmark_smoke(cli):
 
     result = cli.run(
         "bench", "pipeline", "--json", "--axes", "2", "--seconds", "0.5", "--flood", "4000",
-        "--flood-rounds", "2", "--memory-seconds", "1", "--memory-axes", "2", timeout=120,
+        "--flood-rounds", "2", "--memory-seconds", "1", "--memory-axes", "2", "--idle-seconds", "0.5",
+        timeout=120,
     )  # fmt: skip
     assert result.returncode == 0, result.stderr
     r = json.loads(result.stdout)
@@ -120,6 +121,14 @@ def test_pipeline_benchmark_smoke(cli):
     assert flood["lost"] == 0 and flood["messages"] == 2 * 4000 and len(flood["rounds"]) == 2
     assert flood["ratio_min"] * 0.9999 <= flood["ratio_to_baseline"] <= flood["ratio_max"] * 1.0001
     assert r["memory"]["axes"] == 2 and r["memory"]["peak_rss_mb"] > 0
+    assert 0 <= r["idle_recorder_cpu_percent"] < 100
+    # (a 4000-message flood lasts about one clock tick: the CPU figures are there, not yet meaningful)
+    assert set(flood["cpu_us_per_message"]) == {
+        "recorder_main",
+        "recorder_zenoh_rx",
+        "recorder_other",
+        "publisher",
+    }
 
 
 @pytest.mark.parametrize("command", ["recover", "replay"])
