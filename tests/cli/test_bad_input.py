@@ -244,6 +244,14 @@ CASES = [
         says=("--moves", "0 must be >= 1"),
     ),
     case(
+        "bench: an endless idle window",
+        "bench",
+        "pipeline",
+        "--idle-seconds",
+        "inf",
+        says=("--idle-seconds", "'inf' is not a finite number"),
+    ),
+    case(
         "bench: zero payloads",
         "bench",
         "faults",
