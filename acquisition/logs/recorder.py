@@ -4,9 +4,9 @@ Hot path. The subscriber hands samples to a Zenoh FIFO channel (filled on Zenoh'
 it applies back-pressure instead of dropping). The recording thread waits in the channel's blocking
 receive while it is empty, so a sample is taken the moment it arrives (a waker thread puts an empty
 sample on a key of the recorded expression, delivered only inside this session, at least every
-0.1 s and as soon as ``stop`` is set, and the loop drops it unrecorded). It drains the channel and, per
-sample, writes
-the payload bytes exactly as received (no decode, no re-encode) to the channel of topic ``/`` + key,
+0.1 s and as soon as ``stop`` is set, and the loop drops it unrecorded). It drains the channel and,
+per sample, writes the payload bytes exactly as received (no decode, no re-encode) to the channel of
+topic ``/`` + key,
 with ``log_time`` = the time of writing and ``publish_time``/``sequence`` from the sender's
 attachment (:mod:`~axisflow.acquisition.wire.attachment`). A channel and its ``ros2msg`` schema are
 registered the first time a key appears; the type comes from the sample's ``application/cdr;<type>``
@@ -208,7 +208,6 @@ class _Waker:
     def __init__(
         self, session: zenoh.Session, key: str, stop: threading.Event, deadline: float | None
     ) -> None:
-        self.key = key
         self._stop = stop
         self._deadline = deadline
         self._done = threading.Event()
