@@ -6,11 +6,10 @@ receive while it is empty, so a sample is taken the moment it arrives (a waker t
 sample on a key of the recorded expression, delivered only inside this session, at least every
 0.1 s and as soon as ``stop`` is set, and the loop drops it unrecorded). It drains the channel and,
 per sample, writes the payload bytes exactly as received (no decode, no re-encode) to the channel of
-topic ``/`` + key,
-with ``log_time`` = the time of writing and ``publish_time``/``sequence`` from the sender's
-attachment (:mod:`~axisflow.acquisition.wire.attachment`). A channel and its ``ros2msg`` schema are
-registered the first time a key appears; the type comes from the sample's ``application/cdr;<type>``
-encoding.
+topic ``/`` + key, with ``log_time`` = the time of writing and ``publish_time``/``sequence`` from the
+sender's attachment (:mod:`~axisflow.acquisition.wire.attachment`). A channel and its ``ros2msg``
+schema are registered the first time a key appears; the type comes from the sample's
+``application/cdr;<type>`` encoding.
 
 Joining. The subscriber is declared once the routes from the publishers on the recorded keys are
 proven (:class:`~axisflow.acquisition.bus.readiness.JoinedSubscriber`): from then on the recorder is
