@@ -18,7 +18,10 @@ Per axis, under a configurable prefix (default ``axisflow``):
 * ``@axisflow/hello/<key>/<id>`` — the queryable of each publisher on ``<key>``, answering hellos
   (:mod:`.hello`); the verbatim ``@axisflow`` chunk keeps it out of every ``**``;
 * ``@axisflow/recorder/<host>/<pid>`` — a liveliness token held by each recorder once it is ready (its
-  subscriber has joined: a session that sees the token knows the subscriber too).
+  subscriber has joined: a session that sees the token knows the subscriber too);
+* ``@axisflow/receipt/<zid>/<n>`` — the queryable of each joined subscriber that confirms receipt: its
+  answer to a publisher's query proves that what the publisher sent before the query has arrived
+  (:func:`~axisflow.acquisition.bus.readiness.confirm_delivery`).
 
 The MCAP topic of a key is ``/`` + the key (``/axisflow/a0/state``).
 """
@@ -32,6 +35,7 @@ from ..errors import AcquisitionError
 DEFAULT_PREFIX = "axisflow"
 HELLO_PREFIX = "@axisflow/hello"
 RECORDER_TOKEN_PREFIX = "@axisflow/recorder"
+RECEIPT_PREFIX = "@axisflow/receipt"
 DEFAULT_AXIS = "a0"
 _FORBIDDEN = set("*$#?/ ")
 
@@ -153,6 +157,16 @@ def hello_key(key: str, publisher_id: bytes) -> str:
 def hello_selector(key_expr: str) -> str:
     """The key expression of the hellos of every publisher whose key matches ``key_expr``."""
     return f"{HELLO_PREFIX}/{key_expr}/*"
+
+
+def receipt_key(zid: str, number: int) -> str:
+    """The key on which subscriber ``number`` of the Zenoh session ``zid`` confirms receipt."""
+    return f"{RECEIPT_PREFIX}/{zid}/{number}"
+
+
+def receipt_selector() -> str:
+    """The key expression of every subscriber's receipt queryable."""
+    return f"{RECEIPT_PREFIX}/**"
 
 
 def recorder_token(host: str, pid: int) -> str:
