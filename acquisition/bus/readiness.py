@@ -32,16 +32,25 @@ nothing in flight. Publishers of other tools (no hello) cannot be proven; they a
 
 **A publisher** learns from Zenoh's matching status when a subscriber matches it (:class:`MatchWatch`:
 a matching listener sets an event, so waiting costs nothing per message).
+
+**A publisher that stops.** What ``put`` has accepted may still sit in the session's transmit queue,
+and closing the session drops it: a bridge that ran its last ticks at full speed on a busy machine lost
+the last 120–341 of 500 samples in 4 of 16 runs. Every joined subscriber answers receipt queries
+(:class:`ReceiptResponder`, on :func:`~axisflow.acquisition.wire.keys.receipt_key`);
+:func:`confirm_delivery` asks them all at each priority its publishers used, behind the samples in
+the same transmit queue, so an answer proves that everything sent before it has reached that
+subscriber's channel. A publisher calls it before it closes its session.
 """
 
 from __future__ import annotations
 
+import itertools
 import logging
 import os
 import socket
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Any
 
@@ -49,7 +58,7 @@ import zenoh
 
 from ..errors import AcquisitionError, WireError, zenoh_reason
 from ..wire.hello import HELLO_ENCODING, Hello
-from ..wire.keys import hello_key, hello_selector
+from ..wire.keys import hello_key, hello_selector, receipt_key, receipt_selector
 
 log = logging.getLogger(__name__)
 
@@ -66,6 +75,10 @@ _IDLE_S = 0.0005
 _HELLO_PRIORITY = zenoh.Priority.DATA
 """the priority of Zenoh's declarations in 1.10 (``QoSType::DECLARE``): the hello must travel in
 order with them (a hello of a higher priority overtakes them: docs/acquisition.md)"""
+
+
+_RECEIPT_NUMBERS = itertools.count(1)
+"""numbers the receipt queryables of the subscribers of one process"""
 
 
 class NotReadyError(AcquisitionError):
@@ -90,6 +103,54 @@ class HelloResponder:
 
     def undeclare(self) -> None:
         self._queryable.undeclare()
+
+
+class ReceiptResponder:
+    """The receipt queryable of one joined subscriber: it answers every query at once, so the answer
+    leaves after everything the asker sent before its query has been taken by this session."""
+
+    def __init__(self, session: zenoh.Session) -> None:
+        self._key = receipt_key(str(session.info.zid()), next(_RECEIPT_NUMBERS))
+        self._queryable = session.declare_queryable(self._key, self._reply)
+
+    def _reply(self, query: zenoh.Query) -> None:
+        try:
+            query.reply(self._key, b"")
+        except zenoh.ZError as exc:  # the asker went away
+            log.debug("receipt on %s not answered: %s", self._key, zenoh_reason(exc))
+
+    def undeclare(self) -> None:
+        self._queryable.undeclare()
+
+
+def confirm_delivery(
+    session: zenoh.Session, priorities: Iterable[zenoh.Priority], timeout_s: float = FLUSH_TIMEOUT_S
+) -> int:
+    """Ask every joined subscriber for a receipt at each of ``priorities`` (those of the publishers
+    whose samples must arrive) and wait for the answers, at most ``timeout_s``; returns the fewest
+    answers any priority got (0 when no subscriber listens: then there is nothing to wait for)."""
+    distinct: list[zenoh.Priority] = []  # (zenoh's priorities compare, but do not hash)
+    for priority in priorities:
+        if priority not in distinct:
+            distinct.append(priority)
+    rounds = []
+    for priority in distinct:
+        answers: list[int] = []
+        done = threading.Event()
+        session.get(
+            receipt_selector(),
+            zenoh.handlers.Callback(lambda reply, got=answers: got.append(reply.ok is not None), done.set),
+            target=zenoh.QueryTarget.ALL,
+            consolidation=zenoh.ConsolidationMode.NONE,
+            priority=priority,
+            congestion_control=zenoh.CongestionControl.BLOCK,
+            timeout=max(timeout_s, 0.001),
+        )
+        rounds.append((answers, done))
+    deadline = time.monotonic() + timeout_s + 0.1  # (Zenoh ends each query at its timeout)
+    for _answers, done in rounds:
+        done.wait(max(deadline - time.monotonic(), 0.0))
+    return min((sum(answers) for answers, _done in rounds), default=0)
 
 
 @dataclass(frozen=True)
@@ -210,8 +271,20 @@ class JoinedSubscriber:
         self.subscriber: zenoh.Subscriber | None = None
         self.report: JoinReport | None = None
         self._token: zenoh.LivelinessToken | None = None
+        self._receipts: ReceiptResponder | None = None
 
     def __enter__(self) -> JoinedSubscriber:
+        # the receipt queryable first: its declaration reaches a publisher before the subscriber's, so
+        # a publisher that starts on seeing the subscriber can already ask it
+        self._receipts = ReceiptResponder(self._session)
+        try:
+            return self._join()
+        except BaseException:
+            self._receipts.undeclare()
+            self._receipts = None
+            raise
+
+    def _join(self) -> JoinedSubscriber:
         deadline = time.monotonic() + self.timeout_s
         for attempt in range(1, JOIN_ATTEMPTS + 1):
             before = say_hello(self._session, self.key_expr, deadline - time.monotonic(), self._stop)
@@ -258,6 +331,9 @@ class JoinedSubscriber:
         if self._token is not None:
             self._token.undeclare()
             self._token = None
+        if self._receipts is not None:
+            self._receipts.undeclare()
+            self._receipts = None
         if self.subscriber is not None:
             self.subscriber.undeclare()
             self.subscriber = None

@@ -9,7 +9,13 @@ import pytest
 import zenoh
 from axisflow.acquisition import AxisKeys, MoveSender, MoveState, ZenohOptions, load_plant, open_session
 from axisflow.acquisition.bus.publisher import SequencedPublisher, Traffic, wait_for_subscribers
-from axisflow.acquisition.bus.readiness import JoinedSubscriber, NotReadyError, say_hello, wait_for_token
+from axisflow.acquisition.bus.readiness import (
+    JoinedSubscriber,
+    NotReadyError,
+    confirm_delivery,
+    say_hello,
+    wait_for_token,
+)
 from axisflow.acquisition.wire.attachment import unpack_attachment
 from axisflow.acquisition.wire.keys import hello_key, recorder_token
 from axisflow.acquisition.wire.sequence import SequenceTracker
@@ -187,3 +193,31 @@ def test_a_ready_recorder_holds_its_token(cli, tmp_path, port):
     rec.send_signal(2)
     cli.finish(rec)
     assert rec.returncode == 0
+
+
+@pytest.mark.parametrize("traffic", [Traffic.BULK, Traffic.TELEMETRY, Traffic.COMMAND])
+def test_a_confirmed_delivery_means_everything_sent_before_is_in_the_subscribers_channel(port, traffic):
+    """A publisher that starts as soon as a joined subscriber matches can already ask for its receipt
+    (the receipt queryable is declared before the subscriber), and the answer comes only once every
+    sample put before the question is in the subscriber's channel: counted there without waiting."""
+    n = 20_000
+    with (
+        open_session(ZenohOptions.loopback(listen_port=port)) as publishing,
+        open_session(ZenohOptions.loopback(connect_port=port)) as subscribing,
+        SequencedPublisher(publishing, "axisflow/a0/state", "sensor_msgs/msg/JointState", traffic) as pub,
+        JoinedSubscriber(subscribing, "axisflow/**", lambda: zenoh.handlers.FifoChannel(n + 10)) as joined,
+    ):
+        assert wait_for_subscribers([pub], 10.0)
+        payload = bytes(200)
+        for _ in range(n):
+            pub.put(payload)
+        assert confirm_delivery(publishing, [pub.priority]) == 1
+        taken = 0
+        while joined.subscriber.try_recv() is not None:
+            taken += 1
+        assert taken == n
+
+
+def test_delivery_is_confirmed_at_once_when_no_subscriber_listens(port):
+    with open_session(ZenohOptions.loopback(listen_port=port)) as session:
+        assert confirm_delivery(session, [zenoh.Priority.DATA, zenoh.Priority.DATA_HIGH], timeout_s=30.0) == 0
