@@ -60,7 +60,13 @@ from functools import partial
 import zenoh
 
 from ...model import EXECUTION_PERIOD_NS, AxisParams, stop_profile, ticks_to_seconds
-from ..bus.publisher import SequencedPublisher, Traffic, wait_for_subscribers, watch_consumers
+from ..bus.publisher import (
+    SequencedPublisher,
+    Traffic,
+    confirm_delivered,
+    wait_for_subscribers,
+    watch_consumers,
+)
 from ..bus.readiness import MatchWatch, NotReadyError, say_hello
 from ..drives.drive import STOPPING_EVENTS, Drive, DriveEvent, DriveEventKind
 from ..errors import AcquisitionError, AxisTakenError, WireError, zenoh_reason
@@ -346,6 +352,8 @@ class Bridge:
             if self._queue is not None:
                 self.report.moves_completed = self._queue.completed
             self._send_statuses(len(self._outbox))
+            # what put accepted may still wait to be sent: closing the session would drop it
+            confirm_delivered(self.session, [self._state_pub, self._setpoint_pub, self._status_pub])
         finally:
             self._stack.close()
 

@@ -7,15 +7,20 @@ command traffic never stalls telemetry and vice versa. Every publisher answers h
 
 from __future__ import annotations
 
+import logging
 import os
 import time
+from collections.abc import Iterable
 from enum import Enum
 
 import zenoh
 
+from ..errors import zenoh_reason
 from ..wire.attachment import pack_attachment
 from ..wire.messages import SCHEMAS
-from .readiness import HelloResponder, MatchWatch
+from .readiness import FLUSH_TIMEOUT_S, HelloResponder, MatchWatch, confirm_delivery
+
+log = logging.getLogger(__name__)
 
 
 class Traffic(Enum):
@@ -72,6 +77,8 @@ class SequencedPublisher:
         """``gid``: the publisher id of the attachments (default: a new random one; publishers of one
         sender share theirs, so the bridge knows them as one)."""
         priority, congestion = _QOS[traffic]
+        self.priority = priority
+        """the Zenoh priority its samples travel at"""
         self.key = key
         self.gid = os.urandom(16) if gid is None else gid
         self.sequence = 0
@@ -109,6 +116,20 @@ class SequencedPublisher:
 
     def __exit__(self, *_exc: object) -> None:
         self.undeclare()
+
+
+def confirm_delivered(
+    session: zenoh.Session, publishers: Iterable[SequencedPublisher], timeout_s: float = FLUSH_TIMEOUT_S
+) -> int:
+    """Before ``session`` closes: wait (at most ``timeout_s``) until every joined subscriber, a recorder
+    for one, has taken what ``publishers`` sent — closing drops what still waits to be sent
+    (:func:`~.readiness.confirm_delivery`). Returns how many confirmed; 0 at once when none listens,
+    and 0 when the session is already going."""
+    try:
+        return confirm_delivery(session, [p.priority for p in publishers], timeout_s)
+    except zenoh.ZError as exc:
+        log.debug("delivery of the last messages not confirmed: %s", zenoh_reason(exc))
+        return 0
 
 
 def watch_consumers(publishers: list[SequencedPublisher]) -> MatchWatch:

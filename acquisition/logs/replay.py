@@ -28,7 +28,7 @@ from pathlib import Path
 
 import zenoh
 
-from ..bus.publisher import SequencedPublisher, Traffic, wait_for_subscribers
+from ..bus.publisher import SequencedPublisher, Traffic, confirm_delivered, wait_for_subscribers
 from ..bus.session import check_key_expression
 from ..errors import AcquisitionError, RecordingError
 from ..wire.keys import key_for_topic
@@ -164,6 +164,8 @@ def replay(
                 next_progress = time.monotonic() + PROGRESS_INTERVAL_S
                 progress(ReplayProgress(n, (last_t - first_t) * 1e-9, span_s, len(skipped)))
     finally:
+        # what put accepted may still wait to be sent: closing the session would drop it
+        confirm_delivered(session, publishers.values())
         for pub in publishers.values():
             pub.undeclare()
     return ReplayReport(

@@ -25,6 +25,10 @@ def test_record_and_bridge_exit_on_their_own(cli, tmp_path, port):
     out, err = cli.finish(bridge, timeout=60)  # fails the test if the bridge hangs at exit
     assert bridge.returncode == 0, err
     assert json.loads(out)["ticks"] == 500
+    from axisflow.acquisition import read_joint_states
+
+    # the bridge waited for the recorder to start, and for its receipt before it closed its session
+    assert len(read_joint_states(recording, "/axisflow/a0/state")) == 500
 
 
 def test_a_bridge_at_speed_0_waits_while_nobody_subscribes(cli, port):
