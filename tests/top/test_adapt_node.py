@@ -33,11 +33,12 @@ def test_the_planner_plans_with_what_the_adaptive_node_accepts(cli, tmp_path, po
     # on these moves): left to estimate it, the node needs windows apart until it resolves (3 minutes of
     # 30 s windows; tests/identification/online/test_adapter.py proves the estimate). A 40 s window (a
     # 30 s window of these moves has σ(coulomb) at its 3 % bound) fitted every 2.5 s accepts its first
-    # two sets within ~75 s of moves (seen: 36-75 s); 200 way points are ~110 s of moves
+    # two sets within ~75 s of moves (seen: 36-75 s, and once late enough that 200 way points, ~110 s
+    # of moves planned 20 s ahead, were all planned before it); 260 way points are ~140 s of moves
     adapt_args = ("--torque-delay", "0.0025", "--window", "40", "--every", "2.5")
     adapt = cli.start("adapt", *adapt_args, "--connect", endpoint, "--json", ready=True)
     cli.wait_ready(adapt)
-    args = ("--random", "200", "--adapt", "--lookahead-s", "20", "--label", "adapt", "--connect", endpoint)
+    args = ("--random", "260", "--adapt", "--lookahead-s", "20", "--label", "adapt", "--connect", endpoint)
     planner = cli.run("planner", *args, "--json", timeout=300)
     assert planner.returncode == 0, planner.stderr
     (run,) = json.loads(planner.stdout)
