@@ -195,11 +195,13 @@ def test_a_ready_recorder_holds_its_token(cli, tmp_path, port):
     assert rec.returncode == 0
 
 
-@pytest.mark.parametrize("traffic", [Traffic.BULK, Traffic.TELEMETRY, Traffic.COMMAND])
+@pytest.mark.parametrize("traffic", [Traffic.BULK, Traffic.COMMAND])
 def test_a_confirmed_delivery_means_everything_sent_before_is_in_the_subscribers_channel(port, traffic):
     """A publisher that starts as soon as a joined subscriber matches can already ask for its receipt
     (the receipt queryable is declared before the subscriber), and the answer comes only once every
-    sample put before the question is in the subscriber's channel: counted there without waiting."""
+    sample put before the question is in the subscriber's channel: counted there without waiting.
+    (Telemetry is left out: it drops on congestion by design, so on a busy machine not every sample
+    put is sent.)"""
     n = 20_000
     with (
         open_session(ZenohOptions.loopback(listen_port=port)) as publishing,
