@@ -100,7 +100,6 @@ class _ChunkMessages:
         raw = np.frombuffer(chunk.buf, dtype=np.uint8)
         channels = raw[offsets[:, None] + np.arange(_CHANNEL_AT, _CHANNEL_AT + 2)].view("<u2")[:, 0]
         times = raw[offsets[:, None] + np.arange(_LOG_TIME_AT, _LOG_TIME_AT + 8)].view("<u8")[:, 0]
-        self.count = len(offsets)
         self.start = int(times.min())
         self.end = int(times.max())
         self.index: dict[int, bytes] = {}
