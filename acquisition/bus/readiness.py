@@ -105,6 +105,30 @@ class HelloResponder:
         self._queryable.undeclare()
 
 
+def _ask_all(
+    session: zenoh.Session,
+    selector: str,
+    priority: zenoh.Priority,
+    timeout_s: float,
+    on_reply: Callable[[zenoh.Reply], None],
+) -> threading.Event:
+    """Query every queryable on ``selector`` (all of them, answers not consolidated, blocking on
+    congestion so that the query keeps its place behind what was sent before it) at ``priority``;
+    ``on_reply`` runs on Zenoh's thread. The event is set once the query has ended: all answered, or
+    ``timeout_s`` passed."""
+    done = threading.Event()
+    session.get(
+        selector,
+        zenoh.handlers.Callback(on_reply, done.set),
+        target=zenoh.QueryTarget.ALL,
+        consolidation=zenoh.ConsolidationMode.NONE,
+        priority=priority,
+        congestion_control=zenoh.CongestionControl.BLOCK,
+        timeout=max(timeout_s, 0.001),
+    )
+    return done
+
+
 class ReceiptResponder:
     """The receipt queryable of one joined subscriber: it answers every query at once, so the answer
     leaves after everything the asker sent before its query has been taken by this session."""
@@ -136,17 +160,8 @@ def confirm_delivery(
     rounds = []
     for priority in distinct:
         answers: list[int] = []
-        done = threading.Event()
-        session.get(
-            receipt_selector(),
-            zenoh.handlers.Callback(lambda reply, got=answers: got.append(reply.ok is not None), done.set),
-            target=zenoh.QueryTarget.ALL,
-            consolidation=zenoh.ConsolidationMode.NONE,
-            priority=priority,
-            congestion_control=zenoh.CongestionControl.BLOCK,
-            timeout=max(timeout_s, 0.001),
-        )
-        rounds.append((answers, done))
+        on_reply = lambda reply, got=answers: got.append(reply.ok is not None)  # noqa: E731
+        rounds.append((answers, _ask_all(session, receipt_selector(), priority, timeout_s, on_reply)))
     deadline = time.monotonic() + timeout_s + 0.1  # (Zenoh ends each query at its timeout)
     for _answers, done in rounds:
         done.wait(max(deadline - time.monotonic(), 0.0))
@@ -190,7 +205,6 @@ def say_hello(
     t0 = time.monotonic()
     answers: list[bytes] = []
     errors: list[str] = []
-    done = threading.Event()
 
     def on_reply(reply: zenoh.Reply) -> None:  # on Zenoh's thread: keep the bytes, decode later
         if reply.ok is not None:
@@ -198,15 +212,7 @@ def say_hello(
         else:
             errors.append(reply.err.payload.to_string() if reply.err is not None else "no reply")
 
-    session.get(
-        selector,
-        zenoh.handlers.Callback(on_reply, done.set),
-        target=zenoh.QueryTarget.ALL,
-        consolidation=zenoh.ConsolidationMode.NONE,
-        priority=_HELLO_PRIORITY,
-        congestion_control=zenoh.CongestionControl.BLOCK,
-        timeout=max(timeout_s, 0.001),
-    )
+    done = _ask_all(session, selector, _HELLO_PRIORITY, timeout_s, on_reply)
     while not done.is_set():
         if stop is not None and stop.is_set():
             return None
