@@ -35,7 +35,7 @@ import numpy as np
 from axisflow.model import EXECUTION_RATE_HZ
 
 from axisflow.arguments import finite_float, positive_int
-from axisflow.processes import Launcher, cpu_seconds, free_port, thread_cpu_seconds
+from axisflow.processes import Child, Launcher, cpu_seconds, free_port, thread_cpu_seconds
 
 PUBLISHER_ENTRY = "axisflow.benchmarks.pipeline:publisher_main"
 """the publisher process: ``PORT AXES SECONDS SPEED``"""
@@ -278,10 +278,7 @@ def _run_step(tmp: Path, n_axes: int, seconds: float, speed: float = 1.0, sample
     out = tmp / f"bench_{n_axes}_{speed:g}_{time.monotonic_ns()}.mcap"
     rss_trace: list[tuple[float, int]] = []
     with Launcher(tmp / "logs") as launcher:
-        rec = launcher.start(
-            "recorder", "record", "-o", str(out), "--listen", f"tcp/127.0.0.1:{port}", "--json", ready=True
-        )
-        launcher.wait_ready(rec, 60.0)  # its subscriber has joined
+        rec = _start_recorder(launcher, out, port)
         pub = launcher.start(
             "publisher", str(port), str(n_axes), str(seconds), str(speed), entry=PUBLISHER_ENTRY
         )
@@ -328,14 +325,20 @@ def _run_step(tmp: Path, n_axes: int, seconds: float, speed: float = 1.0, sample
     }
 
 
+def _start_recorder(launcher: Launcher, out: Path, port: int) -> Child:
+    """``axisflow record`` of everything into ``out``, listening on ``port``; returned once its subscriber
+    has joined."""
+    rec = launcher.start(
+        "recorder", "record", "-o", str(out), "--listen", f"tcp/127.0.0.1:{port}", "--json", ready=True
+    )
+    launcher.wait_ready(rec, 60.0)
+    return rec
+
+
 def _idle_cpu_percent(tmp: Path, seconds: float) -> float:
     """The CPU a ready recorder uses over ``seconds`` with no publisher, in % of one core."""
     with Launcher(tmp / "logs") as launcher:
-        rec = launcher.start(
-            "recorder", "record", "-o", str(tmp / "idle.mcap"), "--listen", f"tcp/127.0.0.1:{free_port()}",
-            "--json", ready=True,
-        )  # fmt: skip
-        launcher.wait_ready(rec, 60.0)
+        rec = _start_recorder(launcher, tmp / "idle.mcap", free_port())
         cpu0, t0 = cpu_seconds(rec.pid), time.monotonic()
         time.sleep(seconds)  # the window watched
         cpu1, t1 = cpu_seconds(rec.pid), time.monotonic()
