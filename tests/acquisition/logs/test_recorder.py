@@ -16,11 +16,11 @@ from axisflow.processes import wait_until
 
 
 def _record_while(
-    port: int, config: RecorderConfig, publish, expect: int = 0
+    port: int, config: RecorderConfig, publish, expect: int = 0, stop_within_s: float = 30.0
 ) -> tuple[object, BaseException | None]:
     """Run a recorder on its own thread; once it is ready and a second session knows its subscriber
     (its token), call ``publish(session)`` there; stop it once it has written ``expect`` messages (or
-    failed)."""
+    failed). The summary is None if it has not stopped ``stop_within_s`` after the stop."""
     stop = threading.Event()
     recorder = Recorder(config)
     out: dict[str, object] = {}
@@ -42,7 +42,7 @@ def _record_while(
         publish(pub_session)
         assert wait_until(lambda: recorder.summary.messages >= expect or "error" in out, 10.0)
         stop.set()
-        thread.join(timeout=30)
+        thread.join(timeout=stop_within_s)
     return out.get("summary"), out.get("error")
 
 
@@ -90,26 +90,18 @@ def test_an_idle_recorder_flushes_on_time_stops_at_once_and_records_no_wake_up(t
     the expression) still let it flush and stop, and never reach the file. A subscription on one key
     has no such key: it polls."""
     path = tmp_path / "idle.mcap"
-    config = RecorderConfig(keys=keys, output=path, flush_interval_s=0.05)
-    stop = threading.Event()
-    recorder = Recorder(config)
-    with (
-        open_session(ZenohOptions.loopback(listen_port=port)) as rec_session,
-        open_session(ZenohOptions.loopback(connect_port=port)) as pub_session,
-    ):
-        thread = threading.Thread(target=recorder.run, args=(rec_session, stop))
-        thread.start()
-        assert recorder.ready.wait(10.0)
-        assert wait_for_token(pub_session, recorder_token(socket.gethostname(), os.getpid()), 10.0)
-        pub_session.put("axisflow/a0/state", b"one")
+
+    def publish(session) -> None:
+        session.put("axisflow/a0/state", b"one")
         # the message reaches the disk only through a flush after it, which the idle loop does when
         # something wakes its receive
         assert wait_until(lambda: b"one" in path.read_bytes(), 10.0)
-        stop.set()
-        thread.join(timeout=10)
-        assert not thread.is_alive()
+
+    config = RecorderConfig(keys=keys, output=path, flush_interval_s=0.05)
+    summary, error = _record_while(port, config, publish, expect=1, stop_within_s=10.0)
+    assert error is None and summary is not None  # it stopped within 10 s
     with open(path, "rb") as fh:
         reader = make_reader(fh)
         topics = [c.topic for c in reader.get_summary().channels.values()]
         assert [m.data for _s, _c, m in reader.iter_messages()] == [b"one"]
-    assert topics == ["/axisflow/a0/state"] and list(recorder.summary.topics) == topics
+    assert topics == ["/axisflow/a0/state"] and list(summary.topics) == topics
