@@ -118,7 +118,7 @@ def backend_from_args(args: argparse.Namespace):  # noqa: ANN201 - PlannerBacken
 
 def add_waypoint_options(parser: argparse.ArgumentParser) -> None:
     """--seed and --waypoints of the experiment's random way points (uniform in [0, L])."""
-    from .paper import PAPER_WAYPOINTS
+    from .experiment.paper import PAPER_WAYPOINTS
 
     parser.add_argument("--seed", type=non_negative_int, default=0, help="way point seed (default 0)")
     parser.add_argument(

@@ -37,11 +37,11 @@ from pathlib import Path
 from .acquisition.bus.options import check_endpoint
 from .acquisition.wire.keys import DEFAULT_PREFIX, AxisKeys, all_keys, topic_for_key
 from .demo_settings import DemoSettings
+from .experiment.table2 import table_from_recording
+from .experiment.table2_record import Table2, write_table2
 from .model import AxisflowError, load_params
 from .model.files import write_atomic
 from .processes import READY_TIMEOUT_S, STOP_TIMEOUT_S, Child, Exited, Launcher, free_port, last_line
-from .table2 import table_from_recording
-from .table2_record import Table2, write_table2
 
 MAX_AXES = 32
 """axes a cell of ``axisflow demo --axes`` may have (one bridge process each, on one machine)"""

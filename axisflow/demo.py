@@ -41,15 +41,15 @@ from .acquisition import AxisKeys
 from .acquisition.drives.plant import load_profile
 from .acquisition.wire.keys import recorder_token
 from .demo_settings import DemoSettings
-from .experiment import CASES
+from .experiment.offline import CASES
+from .experiment.paper import FIG5_WAYPOINTS, LAWS
+from .experiment.table2 import table_from_recording
+from .experiment.table2_record import Table2, write_table2
+from .experiment.waypoints import random_waypoints
 from .model import AxisflowError, AxisParams, load_params
 from .model.files import write_atomic
-from .paper import FIG5_WAYPOINTS, LAWS
 from .planner import DEFAULT_OMEGA, make_backend
 from .processes import READY_TIMEOUT_S, Child, Launcher, free_port
-from .table2 import table_from_recording
-from .table2_record import Table2, write_table2
-from .waypoints import random_waypoints
 
 
 @dataclass
@@ -110,8 +110,8 @@ def run_demo(
             children.check_alive(bridge)
             # 2. identification
             t0 = time.monotonic()
+            from .experiment.refit_folder import identify_to
             from .identification.refit import IdentifySettings  # CasADi: loaded when the demo fits
-            from .identify import identify_to
 
             # the excitation's moves only: what was recorded around them is of no use
             _ident, refit_report = identify_to(

@@ -17,8 +17,8 @@ Why three axes at once rather than one after the other: the same wall time runs 
 time, the three plants warm through the same excitation and the same kind of moves, and one
 recording holds all of it. One recorder records everything; the results come from it alone:
 
-* per move, E% = (E_th − E_exp)/E_th (:func:`axisflow.table2.move_energies`) and, per minute of axis
-  time since the way points began, the median and the largest |E%| of each way;
+* per move, E% = (E_th − E_exp)/E_th (:func:`axisflow.experiment.table2.move_energies`) and, per
+  minute of axis time since the way points began, the median and the largest |E%| of each way;
 * the final pass of each way: total time, E_th, measured E_exp, E% and the objective of eq. (3)
   with the *measured* energy, ω·T + (1 − ω)·E_exp — what the plans really cost;
 * the adaptation's decisions (from the ``params`` records).
@@ -107,13 +107,13 @@ def run(args: argparse.Namespace) -> int:
     from ..acquisition.bus.session import ZenohOptions, open_session
     from ..acquisition.wire.keys import AxisKeys, recorder_token
     from ..excite import run_excitation
+    from ..experiment.refit_folder import identify_to
+    from ..experiment.waypoints import random_waypoints
     from ..identification.excitation import design_excitation
     from ..identification.refit import IdentifySettings
-    from ..identify import identify_to
     from ..model import AxisflowError, default_params, load_params
     from ..model.files import check_output_dir, ensure_dir
     from ..processes import READY_TIMEOUT_S, Launcher, free_port, stop_on_signals
-    from ..waypoints import random_waypoints
 
     if not (math.isfinite(args.minutes) and 1.0 <= args.minutes <= 600.0):
         raise AxisflowError(f"--minutes {args.minutes:g} must be in [1, 600] min of axis time")
@@ -340,9 +340,9 @@ def _ticker(watches: dict[str, Any], done: threading.Event, say: Any, t0: float)
 # ---- the results, from the recording alone ----------------------------------------------------------
 def _results(recording: Path, out: Path, minutes: float) -> dict[str, Any]:
     from ..acquisition.wire.keys import AxisKeys
+    from ..experiment.per_move import write_move_energies
+    from ..experiment.table2 import move_energies, recorded_runs
     from ..model.files import write_atomic
-    from ..move_energy import write_move_energies
-    from ..table2 import move_energies, recorded_runs
     from ..viz.adaptation_figure import EnergyErrorSeries, adaptation_png
 
     whole = math.floor(minutes)

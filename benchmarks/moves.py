@@ -199,9 +199,9 @@ def during_moves(tmp: Path, waypoints: int, law: str) -> dict[str, object]:
     from axisflow.model import default_params
     from axisflow.planner import DEFAULT_OMEGA, make_backend
 
-    from axisflow.experiment import CASES
+    from axisflow.experiment.offline import CASES
+    from axisflow.experiment.waypoints import random_waypoints
     from axisflow.planner_node import NodeRun, NodeSettings, PlannerNode
-    from axisflow.waypoints import random_waypoints
 
     params = default_params()
     points = random_waypoints(waypoints, 0, params)

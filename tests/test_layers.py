@@ -19,6 +19,7 @@ FOLDERS = {
     "viz": "viz",
     "benchmarks": "benchmarks",
     "axisflow/cli": "cli",
+    "axisflow/experiment": "top",
     "axisflow/security": "top",
     "axisflow/faults": "top",
     "axisflow/ros2": "top",

@@ -31,8 +31,8 @@ from axisflow.model import AxisflowError, AxisParams, default_params
 from axisflow.planner import make_backend
 from scipy.optimize import least_squares
 
-from axisflow.experiment import CASES, run_offline
-from axisflow.paper import LAWS, PAPER_TABLE2
+from axisflow.experiment.offline import CASES, run_offline
+from axisflow.experiment.paper import LAWS, PAPER_TABLE2
 
 ROWS = [(case, law) for case in CASES for law in LAWS]
 """the twelve figures' rows, in the order of :func:`run_offline`"""

@@ -102,8 +102,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ..demo import run_demo
+    from ..experiment.table2_record import table_markdown
     from ..model.files import check_output_dir
-    from ..table2_record import table_markdown
 
     out = Path(args.out) if args.out else Path("logs") / time.strftime("demo-%Y%m%d-%H%M%S")
     check_output_dir(out)
@@ -179,7 +179,7 @@ def _adapt(args: argparse.Namespace, out: Path) -> int:
 
 def _run_cell(settings: DemoSettings, axes: int) -> int:
     from ..cell import run_cell_demo
-    from ..table2_record import table_markdown
+    from ..experiment.table2_record import table_markdown
 
     t0 = time.monotonic()
 

@@ -48,9 +48,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..experiment import run_offline
+    from ..experiment.offline import run_offline
+    from ..experiment.table2_record import table_markdown, write_table2
     from ..model.files import check_output_dir
-    from ..table2_record import table_markdown, write_table2
 
     params = params_from_args(args)
     backend = backend_from_args(args)

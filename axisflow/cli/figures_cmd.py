@@ -7,7 +7,7 @@ import json
 import sys
 
 from ..arguments import add_params_option, non_negative_int, params_from_args, waypoint_count
-from ..paper import FIG5_WAYPOINTS
+from ..experiment.paper import FIG5_WAYPOINTS
 
 # the figures (matplotlib, the planners, the refit) and the log reader are imported when the command runs
 
@@ -54,9 +54,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ..acquisition.logs.reader import check_mcap
+    from ..experiment.waypoints import random_waypoints
     from ..model.files import check_output_files
     from ..viz.figures import FIGURE_FILES, render_figures, save_figures
-    from ..waypoints import random_waypoints
 
     params = params_from_args(args)
     logs = [check_mcap(log) for log in (args.excitation, args.recording) if log is not None]

@@ -159,11 +159,11 @@ def _state_topic(args: argparse.Namespace, logs: list[str]) -> str:
 
 def run(args: argparse.Namespace) -> int:
     from ..acquisition.logs.reader import check_mcap
+    from ..experiment.refit_folder import REFIT_FILES, identify_to
     from ..identification.extra_terms import ExtraTerms
     from ..identification.refit import IdentifySettings
     from ..identification.report import report_markdown
     from ..identification.signals import TimeWindow
-    from ..identify import REFIT_FILES, identify_to
     from ..model.files import check_distinct_inputs, check_output_files
 
     nominal = params_from_args(args)

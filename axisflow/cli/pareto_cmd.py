@@ -15,7 +15,7 @@ from ..arguments import (
     finite_float,
     params_from_args,
 )
-from ..paper import LAWS
+from ..experiment.paper import LAWS
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -75,9 +75,9 @@ def _plot(data: dict, path: Path) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..experiment.waypoints import random_waypoints
     from ..model.files import check_output_dir, ensure_dir, write_atomic
     from ..planner.pareto import DEFAULT_OMEGAS, check_omegas, sweep, time_optimal_point
-    from ..waypoints import random_waypoints
 
     params = params_from_args(args)
     check_output_dir(args.out)  # a bad --out fails before the sweep, not after it

@@ -19,8 +19,8 @@ from ..arguments import (
     positive_int,
     waypoint_count,
 )
+from ..experiment.paper import LAWS
 from ..model import AxisflowError
-from ..paper import LAWS
 from ..planner import DEFAULT_OMEGA, Case
 from ..processes import stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
@@ -109,8 +109,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ..acquisition.bus.session import open_session
+    from ..experiment.waypoints import load_waypoints, random_waypoints
     from ..planner_node import NodeRun, NodeSettings, PlannerNode
-    from ..waypoints import load_waypoints, random_waypoints
 
     params = params_from_args(args)
     points = (

@@ -44,10 +44,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from ..acquisition.logs.reader import check_mcap
     from ..acquisition.logs.recorded_axes import choose_axis
+    from ..experiment.per_move import write_move_energies
+    from ..experiment.table2 import move_energies, recorded_runs, table_of_runs
+    from ..experiment.table2_record import write_table2
     from ..model.files import check_output_files
-    from ..move_energy import write_move_energies
-    from ..table2 import move_energies, recorded_runs, table_of_runs
-    from ..table2_record import write_table2
 
     recording = check_mcap(args.recording)
     names = ("table2.md", "table2.json") + (("moves.csv", "moves.json") if args.per_move else ())

@@ -8,8 +8,8 @@ from axisflow.model import default_params
 from axisflow.planner import DEFAULT_OMEGA, Case
 
 from axisflow.cli import main
-from axisflow.paper import PAPER_TABLE2
-from axisflow.table2_record import Table2, read_table2
+from axisflow.experiment.paper import PAPER_TABLE2
+from axisflow.experiment.table2_record import Table2, read_table2
 
 PARAM_KEYS = [
     "m",
@@ -133,7 +133,7 @@ def test_experiment_into_a_file_path_fails_cleanly_and_writes_nothing(tmp_path, 
     def not_before_the_output_is_checked(*_args, **_kwargs):
         raise AssertionError("the experiment ran before its --out was checked")
 
-    monkeypatch.setattr("axisflow.experiment.run_offline", not_before_the_output_is_checked)
+    monkeypatch.setattr("axisflow.experiment.offline.run_offline", not_before_the_output_is_checked)
     target = tmp_path / "file"
     target.write_text("keep me")
     assert main(["experiment", "--out", str(target), "--waypoints", "3"]) == 2
@@ -209,7 +209,7 @@ def test_an_experiment_row_with_zero_moves_compares_the_rest_with_the_limit():
     import numpy as np
     from axisflow.planner import make_backend
 
-    from axisflow.experiment import plan_row
+    from axisflow.experiment.offline import plan_row
 
     params = default_params()
     points = np.array([0.1, 0.1, 0.1 + 1e-7, 0.5])  # two zero moves, then 0.4 m

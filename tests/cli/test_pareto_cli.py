@@ -7,7 +7,7 @@ import pytest
 from axisflow.planner import Case
 
 from axisflow.cli import main
-from axisflow.table2_record import read_table2
+from axisflow.experiment.table2_record import read_table2
 
 
 def test_pareto_writes_json_and_a_png(tmp_path, capsys):

@@ -22,8 +22,8 @@ DATA_PATH_LIBRARIES = ("mcap", "zstandard", "lz4", "zlib_ng", "cryptography", "j
 """what the parsers loaded before their constants found light homes (issue 23, goal 3)"""
 MACHINERY = (
     "axisflow.demo",
-    "axisflow.experiment",
-    "axisflow.table2",
+    "axisflow.experiment.offline",
+    "axisflow.experiment.table2",
     "axisflow.acquisition.bridge.move_queue",
     "axisflow.acquisition.drives.drive",
     "axisflow.acquisition.drives.plant",

@@ -12,7 +12,7 @@ from axisflow.acquisition.wire.params_estimate import Decision
 from axisflow.identification.online.records import recorded_estimates
 from axisflow.model import load_params
 
-from axisflow.move_energy import read_move_energies
+from axisflow.experiment.per_move import read_move_energies
 
 pytestmark = [pytest.mark.slow, pytest.mark.heavy]
 

@@ -18,7 +18,7 @@ from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
 from rerun.chunk import RrdReader
 
-from axisflow.table2 import table_from_recording
+from axisflow.experiment.table2 import table_from_recording
 
 SIGNALS = (
     "position/measured",
@@ -228,7 +228,7 @@ def adapted(tmp_path_factory):
 def test_each_moves_e_percent_is_drawn_at_its_end(adapted, rrd_reader):
     log, _records, rrd = adapted
     data = rrd_reader(rrd)
-    from axisflow.table2 import move_energies, recorded_runs
+    from axisflow.experiment.table2 import move_energies, recorded_runs
 
     moves = [m for m in move_energies(recorded_runs(log.path)[0]) if m.energy_error_pct is not None]
     error = data["/axes/a0/energy_error"]

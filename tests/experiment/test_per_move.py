@@ -4,7 +4,7 @@ import json
 
 import pytest
 
-from axisflow.move_energy import (
+from axisflow.experiment.per_move import (
     CSV_COLUMNS,
     MoveEnergy,
     MoveEnergyError,

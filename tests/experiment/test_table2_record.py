@@ -11,8 +11,8 @@ import pytest
 from axisflow.model import EnergyAccounting, default_params
 from axisflow.planner import DEFAULT_OMEGA, Case
 
-from axisflow.paper import PAPER_TABLE2, PAPER_WAYPOINTS
-from axisflow.table2_record import (
+from axisflow.experiment.paper import PAPER_TABLE2, PAPER_WAYPOINTS
+from axisflow.experiment.table2_record import (
     LimitColumns,
     MeasuredColumns,
     PlannedColumns,

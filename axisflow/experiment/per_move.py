@@ -22,9 +22,9 @@ from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 from typing import Any
 
-from .model import AxisflowError
-from .model.energy import energy_error_pct
-from .model.files import ensure_dir, write_atomic_files
+from ..model import AxisflowError
+from ..model.energy import energy_error_pct
+from ..model.files import ensure_dir, write_atomic_files
 
 
 class MoveEnergyError(AxisflowError, ValueError):

@@ -24,10 +24,10 @@ such a move has no E_exp and is left out of the row's E_exp and E% (with its E_t
 setpoint samples are incomplete between its first and last tick is flagged (its idle ticks are those
 recorded). The table names both below it.
 
-The result is the one Table 2 record of :mod:`axisflow.table2_record` (its measured columns filled),
-written by its writer; :func:`move_energies` gives the same moves one by one
-(:class:`~axisflow.move_energy.MoveEnergy`: E_th, E_exp and E% per move, the parameter version each
-plan used), what ``axisflow table2 --per-move`` writes.
+The result is the one Table 2 record of :mod:`axisflow.experiment.table2_record` (its measured columns
+filled), written by its writer; :func:`move_energies` gives the same moves one by one
+(:class:`~axisflow.experiment.per_move.MoveEnergy`: E_th, E_exp and E% per move, the parameter version
+each plan used), what ``axisflow table2 --per-move`` writes.
 """
 
 from __future__ import annotations
@@ -39,7 +39,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .acquisition import (
+from ..acquisition import (
     MOVE_STATUS_TYPE,
     PLAN_TYPE,
     AxisKeys,
@@ -51,7 +51,7 @@ from .acquisition import (
     read_messages,
     topic_for_key,
 )
-from .model import (
+from ..model import (
     EXECUTION_PERIOD_NS,
     EXECUTION_PERIOD_S,
     AxisflowError,
@@ -59,8 +59,8 @@ from .model import (
     trace_energy,
     trace_energy_at,
 )
-from .move_energy import MoveEnergy
-from .planner import Case
+from ..planner import Case
+from .per_move import MoveEnergy
 from .table2_record import MeasuredColumns, PlannedColumns, Table2, Table2Row
 
 MAX_BRIDGED_HOLE_TICKS = 2

@@ -18,9 +18,9 @@ from axisflow.acquisition.logs.mcap_writer import Ros2McapWriter
 from axisflow.model import EXECUTION_PERIOD_NS, AxisflowError
 from axisflow.planner import Case
 
-from axisflow.move_energy import read_move_energies
-from axisflow.table2 import move_energies, recorded_runs, table_from_recording
-from axisflow.table2_record import Table2, table_markdown
+from axisflow.experiment.per_move import read_move_energies
+from axisflow.experiment.table2 import move_energies, recorded_runs, table_from_recording
+from axisflow.experiment.table2_record import Table2, table_markdown
 
 T0 = 1_700_000_000_000_000_000
 MS = EXECUTION_PERIOD_NS

@@ -2,7 +2,7 @@
 
 Way points are drawn uniformly in [0, L] with a recorded seed; the same way points serve every case
 and law. Each of the 99 consecutive moves is planned as the paper did (one solve per move); each row
-of the resulting :class:`~axisflow.table2_record.Table2` holds the planned columns and, with
+of the resulting :class:`~axisflow.experiment.table2_record.Table2` holds the planned columns and, with
 ``limits``, each move against the physical limit. The measured columns stay empty: the moves run on
 an axis with ``axisflow planner`` and are measured from the recording by ``axisflow table2``.
 """
@@ -15,10 +15,10 @@ from itertools import pairwise
 
 import numpy as np
 
-from .model import AxisParams, MoveError, polynomial_law
+from ..model import AxisParams, MoveError, polynomial_law
+from ..planner import DEFAULT_OMEGA, Case, MoveProblem, PlannerBackend, PlanResult
+from ..planner.reference_laws import least_energy, time_optimal
 from .paper import LAWS, PAPER_WAYPOINTS
-from .planner import DEFAULT_OMEGA, Case, MoveProblem, PlannerBackend, PlanResult
-from .planner.reference_laws import least_energy, time_optimal
 from .table2_record import LimitColumns, PlannedColumns, Table2, Table2Row
 from .waypoints import random_waypoints
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .model import AxisParams, MoveError
+from ..model import AxisParams, MoveError
 
 MAX_WAYPOINTS = 100_000
 """the most way points a run takes (random or from a file)"""

@@ -6,11 +6,11 @@ import json
 from collections.abc import Sequence
 from pathlib import Path
 
-from .identification.refit import Identification, IdentifySettings, identify
-from .identification.report import params_file, report_json, report_markdown
-from .model import AxisParams
-from .model.files import ensure_dir, write_atomic_files
-from .viz.identification_figure import identification_png
+from ..identification.refit import Identification, IdentifySettings, identify
+from ..identification.report import params_file, report_json, report_markdown
+from ..model import AxisParams
+from ..model.files import ensure_dir, write_atomic_files
+from ..viz.identification_figure import identification_png
 
 REFIT_FILES = ("params.toml", "report.json", "report.md", "fit.png")
 

@@ -28,13 +28,13 @@ from typing import Any
 
 import numpy as np
 
-from .acquisition import PlanRecord
-from .model import AxisflowError, AxisParams, EnergyAccounting
-from .model.energy import energy_error_pct
-from .model.files import ensure_dir, write_atomic_files
-from .model.params import FILE_KEYS, params_from_mapping
+from ..acquisition import PlanRecord
+from ..model import AxisflowError, AxisParams, EnergyAccounting
+from ..model.energy import energy_error_pct
+from ..model.files import ensure_dir, write_atomic_files
+from ..model.params import FILE_KEYS, params_from_mapping
+from ..planner import Case, PlanResult
 from .paper import PAPER_TABLE2, PAPER_WAYPOINTS, PaperRow
-from .planner import Case, PlanResult
 
 
 class Table2Error(AxisflowError, ValueError):
@@ -147,7 +147,7 @@ class PlannedColumns:
 
 @dataclass(frozen=True)
 class MeasuredColumns:
-    """What the axis did with the planned moves, from a recording (see :mod:`axisflow.table2`)."""
+    """What the axis did with the planned moves, from a recording (see :mod:`axisflow.experiment.table2`)."""
 
     energies_j: tuple[float | None, ...]
     """E_exp of each move [J]: ∫ g(τ_m·ω_m) dt over its ticks; None unless the move completed and
