@@ -20,7 +20,7 @@ Everything lands in one session folder. The bridge runs as fast as the recorder 
 (``--speed 0``; between the phases, with nobody recording, it waits) so that ~25 minutes of axis time
 take a few minutes; the way point count defaults to :data:`~axisflow.demo_settings.DEFAULT_WAYPOINTS`
 (the paper used 100). The bridge and the recorders are started by a
-:class:`~axisflow.processes.Launcher`: Ctrl-C (or SIGTERM) stops everything cleanly — the recordings
+:class:`~axisflow.deploy.processes.Launcher`: Ctrl-C (or SIGTERM) stops everything cleanly — the recordings
 are finished — and even a SIGKILL of the demo leaves no process running (they follow the launcher's
 lifeline). Each phase begins once its recorder's subscriber has joined (its ready byte, then its token
 seen by this session) and ends with the recorder's own stop, which proves nothing was still on the way
@@ -41,6 +41,7 @@ from .acquisition import AxisKeys
 from .acquisition.drives.plant import load_profile
 from .acquisition.wire.keys import recorder_token
 from .demo_settings import DemoSettings
+from .deploy.processes import READY_TIMEOUT_S, Child, Launcher, free_port
 from .experiment.offline import CASES
 from .experiment.paper import FIG5_WAYPOINTS, LAWS
 from .experiment.table2 import table_from_recording
@@ -49,7 +50,6 @@ from .experiment.waypoints import random_waypoints
 from .model import AxisflowError, AxisParams, load_params
 from .model.files import write_atomic
 from .planner import DEFAULT_OMEGA, make_backend
-from .processes import READY_TIMEOUT_S, Child, Launcher, free_port
 
 
 @dataclass

@@ -106,6 +106,7 @@ def run(args: argparse.Namespace) -> int:
     from ..acquisition.bus.readiness import wait_for_token
     from ..acquisition.bus.session import ZenohOptions, open_session
     from ..acquisition.wire.keys import AxisKeys, recorder_token
+    from ..deploy.processes import READY_TIMEOUT_S, Launcher, free_port, stop_on_signals
     from ..excite import run_excitation
     from ..experiment.refit_folder import identify_to
     from ..experiment.waypoints import random_waypoints
@@ -113,7 +114,6 @@ def run(args: argparse.Namespace) -> int:
     from ..identification.refit import IdentifySettings
     from ..model import AxisflowError, default_params, load_params
     from ..model.files import check_output_dir, ensure_dir
-    from ..processes import READY_TIMEOUT_S, Launcher, free_port, stop_on_signals
 
     if not (math.isfinite(args.minutes) and 1.0 <= args.minutes <= 600.0):
         raise AxisflowError(f"--minutes {args.minutes:g} must be in [1, 600] min of axis time")

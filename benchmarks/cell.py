@@ -34,7 +34,7 @@ from pathlib import Path
 
 from axisflow.model import EXECUTION_RATE_HZ
 
-from axisflow.processes import Launcher, cpu_seconds, free_port
+from axisflow.deploy.processes import Launcher, cpu_seconds, free_port
 
 from .pipeline import KEEP_UP_P99_US, analyse_recording, axis_counts, failure, payload_template, play
 

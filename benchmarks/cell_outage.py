@@ -1,6 +1,6 @@
 """What a cell's bridges and recorder do when the router goes away: measured with real processes.
 
-A cell (:class:`axisflow.cell.Cell`) of N simulated bridges at 1× real time and a recorder, all
+A cell (:class:`axisflow.deploy.cell.Cell`) of N simulated bridges at 1× real time and a recorder, all
 clients of one router on loopback; this process is the planner (a client too, one
 :class:`~axisflow.acquisition.MoveSender` per axis). On every axis a move runs and another waits
 behind it when the router goes:
@@ -32,8 +32,8 @@ from axisflow.acquisition import AxisKeys, MoveSender, MoveState, ZenohOptions, 
 from axisflow.acquisition.logs.reader import read_joint_states
 from axisflow.acquisition.wire.keys import topic_for_key
 
-from axisflow.cell import Cell, CellLayout
-from axisflow.processes import wait_until
+from axisflow.deploy.cell import Cell, CellLayout
+from axisflow.deploy.processes import wait_until
 
 RUNNING = {"restart": (0.0, 0.3, 4.0), "freeze": (0.0, 0.3, 16.0)}
 """the move running when the router goes [m, m, s]: it outlasts the outage's detection"""

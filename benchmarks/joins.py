@@ -67,7 +67,7 @@ def run(args: argparse.Namespace) -> int:
     import zenoh
     from axisflow.acquisition import AxisKeys, ZenohOptions, open_session
 
-    from axisflow.processes import Launcher, free_port
+    from axisflow.deploy.processes import Launcher, free_port
 
     rows: list[dict[str, Any]] = []
     with tempfile.TemporaryDirectory(prefix="axisflow-joins-") as tmp, Launcher(Path(tmp)) as launcher:

@@ -29,7 +29,7 @@ import time
 from pathlib import Path
 
 from axisflow.arguments import finite_float, positive_int
-from axisflow.processes import Launcher, cpu_seconds, free_port
+from axisflow.deploy.processes import Launcher, cpu_seconds, free_port
 
 GOAL_SPEED = 40.0
 GOAL_CPU_US = 50.0

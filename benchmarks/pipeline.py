@@ -35,7 +35,7 @@ import numpy as np
 from axisflow.model import EXECUTION_RATE_HZ
 
 from axisflow.arguments import finite_float, positive_int
-from axisflow.processes import Child, Launcher, cpu_seconds, free_port, thread_cpu_seconds
+from axisflow.deploy.processes import Child, Launcher, cpu_seconds, free_port, thread_cpu_seconds
 
 PUBLISHER_ENTRY = "axisflow.benchmarks.pipeline:publisher_main"
 """the publisher process: ``PORT AXES SECONDS SPEED``"""
@@ -176,7 +176,7 @@ def raw_subscriber_main() -> None:
     from axisflow.acquisition.wire.attachment import unpack_attachment
     from axisflow.acquisition.wire.keys import all_keys
 
-    from axisflow.processes import notify_ready
+    from axisflow.deploy.processes import notify_ready
 
     port, n = int(sys.argv[1]), int(sys.argv[2])
     with open_session(ZenohOptions.loopback(listen_port=port)) as session:

@@ -1,7 +1,7 @@
 """ROS 2: JointState samples per second delivered to an rclpy subscriber, and the latency the node adds.
 
 Everything runs inside a private network namespace (``unshare -n``: DDS discovery stays on this
-machine; :mod:`axisflow.ros2.private_network`) with a random ``ROS_DOMAIN_ID`` and
+machine; :mod:`axisflow.deploy.private_network`) with a random ``ROS_DOMAIN_ID`` and
 ``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST``: the command re-runs itself there. Each subscriber and
 publisher is a process of its own. Over ``--seconds`` of 1 kHz samples per path:
 
@@ -267,7 +267,7 @@ def _relay_costs(samples: int) -> dict[str, float]:
 def run(args: argparse.Namespace) -> int:
     from axisflow.model import AxisflowError
 
-    from axisflow.ros2 import private_network
+    from axisflow.deploy import private_network
     from axisflow.ros2.environment import RosEnvironment, require_rclpy
 
     if not args.seconds > 0:
@@ -289,7 +289,7 @@ def run(args: argparse.Namespace) -> int:
 
 def _rerun_inside(args: argparse.Namespace) -> int:
     """This benchmark again, inside a fresh private network namespace, on this terminal."""
-    from axisflow.ros2 import private_network
+    from axisflow.deploy import private_network
 
     argv = [sys.executable, "-m", "axisflow", "bench", "ros2", "--seconds", f"{args.seconds:g}"]
     argv += ["--samples", str(args.samples)] + (["--json"] if args.json else [])
@@ -326,8 +326,8 @@ def _window(*streams: list[tuple[int, int]], seconds: float) -> tuple[int, int]:
 def _measure(args: argparse.Namespace) -> dict[str, Any]:
     from axisflow.model import AxisflowError
 
-    from axisflow.processes import Launcher, free_port
-    from axisflow.ros2 import private_network
+    from axisflow.deploy import private_network
+    from axisflow.deploy.processes import Launcher, free_port
 
     if private_network.interfaces() != ["lo"]:
         raise AxisflowError(f"not a private network namespace: interfaces {private_network.interfaces()}")

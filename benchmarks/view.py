@@ -29,7 +29,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from ..processes import Launcher, cpu_seconds, free_port
+from ..deploy.processes import Launcher, cpu_seconds, free_port
 from .pipeline import axis_counts, play
 
 GOAL_HOUR_S = 10.0

@@ -10,11 +10,11 @@ from axisflow.acquisition import RecordingError, iter_recording
 from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
 
-from axisflow.processes import Child, Exited, Launcher, free_port, wait_until
+from axisflow.deploy.processes import Child, Exited, Launcher, free_port, wait_until
 
 
 class Cli:
-    """``axisflow`` processes of one test, started by a :class:`~axisflow.processes.Launcher` (their
+    """``axisflow`` processes of one test, started by a :class:`~axisflow.deploy.processes.Launcher` (their
     output goes to files; they end with the test process, however it ends), and MCAP reading."""
 
     def __init__(self, launcher: Launcher) -> None:

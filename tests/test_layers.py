@@ -20,7 +20,7 @@ FOLDERS = {
     "benchmarks": "benchmarks",
     "axisflow/cli": "cli",
     "axisflow/experiment": "top",
-    "axisflow/security": "top",
+    "axisflow/deploy": "top",
     "axisflow/faults": "top",
     "axisflow/ros2": "top",
     "axisflow": "top",

@@ -20,7 +20,7 @@ PACKAGES = {
     "axisflow.acquisition": ROOT / "acquisition" / "__init__.py",
     "axisflow.identification": ROOT / "identification" / "__init__.py",
     "axisflow.viz": ROOT / "viz" / "__init__.py",
-    "axisflow.security": ROOT / "axisflow" / "security" / "__init__.py",
+    "axisflow.deploy.security": ROOT / "axisflow" / "deploy" / "security" / "__init__.py",
 }
 
 

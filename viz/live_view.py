@@ -18,7 +18,7 @@ numbers count the messages lost on the way; the latency is measured from each sa
 (drive time) to the moment its batch was handed to rerun.
 
 The subscriber joins first (its routes proven: :mod:`~axisflow.acquisition.bus.readiness`). The loop
-stops when ``stop`` is set (SIGINT/SIGTERM through :func:`axisflow.processes.stop_on_signals`) or after
+stops when ``stop`` is set (SIGINT/SIGTERM through :func:`axisflow.deploy.processes.stop_on_signals`) or after
 ``duration_s``, after one more hello and draining what the channel holds; the subscriber is undeclared
 before the caller closes the session.
 """

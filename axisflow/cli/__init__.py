@@ -22,8 +22,8 @@ from collections.abc import Callable, Sequence
 from typing import NoReturn, TextIO
 
 from .. import __version__
+from ..deploy.processes import follow_launcher
 from ..model import AxisflowError, AxisflowWarning
-from ..processes import follow_launcher
 from .interrupts import Terminated, signals_unwind
 
 # command modules, in the order --help lists them
@@ -79,7 +79,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    follow_launcher()  # a child of axisflow's launcher ends with it (axisflow/processes.py)
+    follow_launcher()  # a child of axisflow's launcher ends with it (axisflow/deploy/processes.py)
     try:
         return _main(argv)
     except BrokenPipeError:

@@ -79,9 +79,9 @@ def run(args: argparse.Namespace) -> int:
     from ..acquisition.wire.params_estimate import ParamsEstimate
     from ..adapt_node import AdaptNode
     from ..arguments import params_from_args
+    from ..deploy.processes import notify_ready, stop_on_signals
     from ..identification.errors import IdentificationError
     from ..identification.online import Adapter, AdaptSettings, load_fit_libraries
-    from ..processes import notify_ready, stop_on_signals
 
     if args.duration is not None and not args.duration > 0.0:
         raise IdentificationError(f"--duration {args.duration:g} s must be > 0 s")

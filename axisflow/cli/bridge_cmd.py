@@ -16,8 +16,8 @@ from ..acquisition.bus.options import DEFAULT_ENDPOINT, ZenohOptions
 from ..acquisition.drives.plant_profiles import DEFAULT_PROFILE, PROFILE_RESOURCES
 from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
 from ..arguments import add_params_option, finite_float, params_from_args
+from ..deploy.processes import notify_ready, stop_on_signals
 from ..model import EXECUTION_PERIOD_NS, AxisflowError
-from ..processes import notify_ready, stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 if TYPE_CHECKING:

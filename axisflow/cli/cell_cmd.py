@@ -10,8 +10,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from ..cell_file import Process
-    from ..processes import Child, Exited, Launcher
+    from ..deploy.cell_file import Process
+    from ..deploy.processes import Child, Exited, Launcher
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -44,10 +44,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run_up(args: argparse.Namespace) -> int:
-    from ..cell import CellError
-    from ..cell_file import load_cell_file
+    from ..deploy.cell import CellError
+    from ..deploy.cell_file import load_cell_file
+    from ..deploy.processes import READY_TIMEOUT_S, Launcher, notify_ready, stop_on_signals
     from ..model.files import check_output_dir
-    from ..processes import READY_TIMEOUT_S, Launcher, notify_ready, stop_on_signals
 
     cell = load_cell_file(args.file)
     processes = cell.processes(args.machine)

@@ -10,9 +10,9 @@ from pathlib import Path
 from ..acquisition.drives.plant_profiles import DEFAULT_PROFILE, PROFILE_RESOURCES
 from ..arguments import finite_float, non_negative_int, positive_int, waypoint_count
 from ..demo_settings import DEFAULT_LOOKAHEAD, DEFAULT_LOOKAHEAD_S, DEFAULT_WAYPOINTS, DemoSettings
+from ..deploy.processes import stop_on_signals
 from ..model import AxisflowError
 from ..planner import BACKENDS
-from ..processes import stop_on_signals
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -125,7 +125,7 @@ def run(args: argparse.Namespace) -> int:
         plant_profile=args.plant_profile,
         drive=args.drive,
     )
-    if args.axes > 1:  # a cell of several axes through one router: axisflow/cell.py
+    if args.axes > 1:  # a cell of several axes through one router: axisflow/deploy/cell.py
         return _run_cell(settings, args.axes)
     speed = "as fast as the recorder allows" if args.speed == 0 else f"at {args.speed:g}× real time"
     print(
@@ -178,7 +178,7 @@ def _adapt(args: argparse.Namespace, out: Path) -> int:
 
 
 def _run_cell(settings: DemoSettings, axes: int) -> int:
-    from ..cell import run_cell_demo
+    from ..deploy.cell import run_cell_demo
     from ..experiment.table2_record import table_markdown
 
     t0 = time.monotonic()

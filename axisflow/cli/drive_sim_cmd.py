@@ -8,8 +8,8 @@ from typing import TYPE_CHECKING
 
 from ..acquisition.drives.canopen.emergency import DEFAULT_FAULT_CODE, describe_code
 from ..arguments import add_params_option, finite_float, params_from_args
+from ..deploy.processes import stop_on_signals
 from ..model import AxisflowError
-from ..processes import stop_on_signals
 
 if TYPE_CHECKING:
     from ..acquisition.drives.canopen.sim_drive import FaultPlan

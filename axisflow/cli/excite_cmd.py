@@ -8,8 +8,8 @@ import sys
 
 from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
 from ..arguments import add_params_option, finite_float, params_from_args
+from ..deploy.processes import stop_on_signals
 from ..identification.excitation import DEFAULT_DURATION_S, DEFAULT_TORQUE_MARGIN
-from ..processes import stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 

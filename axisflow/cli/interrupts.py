@@ -6,7 +6,7 @@ first SIGTERM or SIGHUP raises :class:`Terminated` in the main thread instead �
 ``KeyboardInterrupt``, so that every clean-up that runs for Ctrl-C runs for it too (temporary files
 removed, children stopped) — and a second one, should the unwinding hang, ends the process the
 default way. Commands that stop on signals by themselves (``record``, ``bridge``, ``replay``…:
-:func:`axisflow.processes.stop_on_signals`) replace these handlers while they run.
+:func:`axisflow.deploy.processes.stop_on_signals`) replace these handlers while they run.
 """
 
 from __future__ import annotations

@@ -19,10 +19,10 @@ from ..arguments import (
     positive_int,
     waypoint_count,
 )
+from ..deploy.processes import stop_on_signals
 from ..experiment.paper import LAWS
 from ..model import AxisflowError
 from ..planner import DEFAULT_OMEGA, Case
-from ..processes import stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 if TYPE_CHECKING:

@@ -10,8 +10,8 @@ from ..acquisition.logs.chunking import COMPRESSION_NAMES, DEFAULT_BACKLOG_BYTES
 from ..acquisition.logs.recorder_config import DEFAULT_QUEUE_CAPACITY, RecorderConfig
 from ..acquisition.wire.keys import all_keys
 from ..arguments import finite_float, positive_int
+from ..deploy.processes import notify_ready, stop_on_signals
 from ..model import AxisflowError
-from ..processes import notify_ready, stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 _SIZE_SUFFIXES = {"": 1, "k": 10**3, "m": 10**6, "g": 10**9}

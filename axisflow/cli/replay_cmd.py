@@ -7,7 +7,7 @@ import sys
 from typing import TYPE_CHECKING
 
 from ..arguments import finite_float
-from ..processes import stop_on_signals
+from ..deploy.processes import stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 if TYPE_CHECKING:

@@ -65,7 +65,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from ..acquisition.bus.session import open_session
     from ..arguments import backend_from_args, params_from_args
-    from ..processes import notify_ready, stop_on_signals
+    from ..deploy.processes import notify_ready, stop_on_signals
     from ..ros2.environment import RosEnvironment, require_rclpy
     from ..ros2.settings import MotionSettings, NodeSettings
     from ..ros2.trajectory_plan import TrajectoryPlanner

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 from ..acquisition.errors import ZenohConfigError
 from ..arguments import finite_float
-from ..processes import notify_ready, stop_on_signals
+from ..deploy.processes import notify_ready, stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 if TYPE_CHECKING:

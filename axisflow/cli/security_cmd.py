@@ -8,7 +8,14 @@ from pathlib import Path
 
 from ..acquisition.wire.keys import DEFAULT_PREFIX
 from ..arguments import positive_int, tcp_port
-from ..security import DEFAULT_DAYS, DEFAULT_HOST, DEFAULT_PORT, DEFAULT_ROLES, SecurityPlan, parse_roles
+from ..deploy.security import (
+    DEFAULT_DAYS,
+    DEFAULT_HOST,
+    DEFAULT_PORT,
+    DEFAULT_ROLES,
+    SecurityPlan,
+    parse_roles,
+)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -95,7 +102,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run_init(args: argparse.Namespace) -> int:
-    from ..security import init_security
+    from ..deploy.security import init_security
 
     plan = SecurityPlan(
         directory=Path(args.directory),
@@ -112,7 +119,7 @@ def run_init(args: argparse.Namespace) -> int:
 
 
 def run_add(args: argparse.Namespace) -> int:
-    from ..security import add_roles
+    from ..deploy.security import add_roles
 
     print(add_roles(Path(args.directory), parse_roles(args.roles), args.days).format())
     return 0

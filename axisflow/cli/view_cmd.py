@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 from ..acquisition.wire.keys import AxisKeys, all_keys
 from ..arguments import add_params_option, finite_float, params_from_args, tcp_port_or_any
-from ..processes import notify_ready, stop_on_signals
+from ..deploy.processes import notify_ready, stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 if TYPE_CHECKING:

@@ -1,7 +1,7 @@
 """Faults: the data path's processes killed, fuzzed, flooded and starved; what survives, counted.
 
 Every scenario runs real processes — ``axisflow bridge --sim``, ``record``, ``planner``, ``recover``,
-started by axisflow's :class:`~axisflow.processes.Launcher` on free loopback ports — with real Zenoh
+started by axisflow's :class:`~axisflow.deploy.processes.Launcher` on free loopback ports — with real Zenoh
 sessions and real MCAP files, measures what happened, and returns a result object: the numbers, the
 contract it checks (``passed``) and the command that reproduces it (:mod:`.outcome`). tests/faults
 asserts on the same objects; ``axisflow bench faults [--json]`` runs them and prints them as one

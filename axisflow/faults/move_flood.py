@@ -9,8 +9,8 @@ from pathlib import Path
 from typing import Any
 
 from ..acquisition import MoveState, MoveStatus, load_plant, open_session
+from ..deploy.processes import Launcher, wait_until
 from ..model import default_params
-from ..processes import Launcher, wait_until
 from .outcome import FaultResult, Outcome
 from .rig import KEYS, Rig, RssSampler, RunEnd, StatusWatch, require_bridge, stop_rig
 from .ticks import Stalls, phase_stalls

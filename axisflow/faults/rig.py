@@ -14,8 +14,8 @@ import zenoh
 
 from ..acquisition import AxisKeys, MoveState, MoveStatus, ZenohOptions, is_complete, load_plant
 from ..acquisition.bus.readiness import JoinedSubscriber, say_hello
+from ..deploy.processes import READY_TIMEOUT_S, Child, Exited, Launcher, free_port, wait_until
 from ..model import AxisParams, default_params
-from ..processes import READY_TIMEOUT_S, Child, Exited, Launcher, free_port, wait_until
 from .ticks import KEYS, SETPOINT_TOPIC, STATE_TOPIC, TickRecord, tick_record
 
 
@@ -29,7 +29,7 @@ def rss_mb(pid: int) -> float:
 
 class Rig:
     """A recorder (listening) and bridges (connecting to it, each listening on a port of its own) as
-    processes of a :class:`~axisflow.processes.Launcher`, and the Zenoh options for this process's own
+    processes of a :class:`~axisflow.deploy.processes.Launcher`, and the Zenoh options for this process's own
     sessions (connected to both)."""
 
     def __init__(self, launcher: Launcher, name: str) -> None:

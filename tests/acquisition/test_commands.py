@@ -5,7 +5,7 @@ import time
 
 import pytest
 
-from axisflow.processes import cpu_seconds
+from axisflow.deploy.processes import cpu_seconds
 
 
 @pytest.mark.slow
@@ -39,7 +39,7 @@ def test_a_bridge_at_speed_0_waits_while_nobody_subscribes(cli, port):
     from axisflow.acquisition import AxisKeys, ZenohOptions, open_session
     from axisflow.acquisition.bus.axis_state import AxisState
 
-    from axisflow.processes import wait_until
+    from axisflow.deploy.processes import wait_until
 
     bridge = cli.start(
         "bridge", "--sim", "--speed", "0", "--listen", f"tcp/127.0.0.1:{port}", "--json", ready=True
@@ -236,7 +236,7 @@ def test_a_bridge_waits_for_its_recorder_and_stamps_its_samples_when_it_starts(c
     from axisflow.acquisition import AxisKeys, ZenohOptions, open_session
     from axisflow.acquisition.bus.readiness import wait_for_token
 
-    from axisflow.processes import wait_until
+    from axisflow.deploy.processes import wait_until
 
     out = tmp_path / "late.mcap"
     bridge = cli.start(

@@ -34,7 +34,7 @@ from axisflow.acquisition.wire.messages import JOINT_STATE_TYPE, MOVE_TYPE
 from axisflow.model import default_params
 
 from axisflow.cli import main
-from axisflow.security import SecurityPlan, init_security
+from axisflow.deploy.security import SecurityPlan, init_security
 
 from ..acquisition.logs.cell_log import write_cell_log
 

@@ -14,7 +14,7 @@ from axisflow.acquisition.bus.axis_state import AxisState
 from axisflow.acquisition.logs.mcap_writer import Ros2McapWriter
 from axisflow.acquisition.wire.messages import JOINT_STATE_TYPE
 
-from axisflow.processes import wait_until
+from axisflow.deploy.processes import wait_until
 
 pytestmark = [pytest.mark.slow, pytest.mark.heavy]  # each stop is bounded in wall time (2 s)
 

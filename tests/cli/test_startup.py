@@ -32,7 +32,7 @@ MACHINERY = (
     "axisflow.identification.refit",
     "axisflow.planner.exact",
     "axisflow.planner.reference_laws",
-    "axisflow.security.certificates",
+    "axisflow.deploy.security.certificates",
 )
 """axisflow's own modules that a command runs but no parser needs"""
 

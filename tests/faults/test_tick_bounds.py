@@ -16,9 +16,9 @@ from axisflow.acquisition.bridge.bridge import MOVES_PER_TICK, STATUSES_PER_TICK
 from axisflow.acquisition.bridge.move_intake import MAX_PAYLOAD_BYTES
 from axisflow.model import default_params
 
+from axisflow.deploy.processes import wait_until
 from axisflow.faults.payloads import RawSender
 from axisflow.faults.rig import StatusWatch
-from axisflow.processes import wait_until
 
 P = default_params()
 KEYS = AxisKeys("a0")

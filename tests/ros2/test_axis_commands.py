@@ -11,7 +11,7 @@ from axisflow.acquisition.wire.quick_stop import STOP_MOVE_ID
 from axisflow.model import default_params
 from axisflow.planner import make_backend
 
-from axisflow.processes import wait_until
+from axisflow.deploy.processes import wait_until
 from axisflow.ros2.axis_commands import AxisCommands
 from axisflow.ros2.errors import Ros2Error
 from axisflow.ros2.settings import MotionSettings

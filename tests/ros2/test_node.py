@@ -4,7 +4,7 @@ stop the axis and reset its drive, a diagnostics listener.
 
 DDS discovers its peers by multicast, which must not leave this machine. The outer test therefore
 re-runs this file's inner tests inside a private network namespace (``unshare -n``, only a loopback
-interface, multicast routed to it: :mod:`axisflow.ros2.private_network`) with a random
+interface, multicast routed to it: :mod:`axisflow.deploy.private_network`) with a random
 ``ROS_DOMAIN_ID``, ``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST`` and ``ROS_LOG_DIR`` in a temporary
 folder; every process — the bridge, the node, the drive simulator, this test's rclpy node — runs in
 there, and each inner test first proves that ``lo`` is the only interface it can see. Where no
@@ -27,8 +27,8 @@ import pytest
 
 pytest.importorskip("rclpy", reason='ROS 2 is not installed (pip install "axisflow[ros2]")')
 
-from axisflow.processes import wait_until
-from axisflow.ros2 import private_network
+from axisflow.deploy import private_network
+from axisflow.deploy.processes import wait_until
 
 INSIDE = private_network.inside()
 inside_only = pytest.mark.skipif(

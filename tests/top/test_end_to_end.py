@@ -14,7 +14,7 @@ import pytest
 from axisflow.acquisition import load_plant
 from axisflow.model import default_params
 
-from axisflow.processes import Exited
+from axisflow.deploy.processes import Exited
 
 
 @pytest.fixture(scope="module")

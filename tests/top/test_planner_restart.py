@@ -8,7 +8,7 @@ import zenoh
 from axisflow.acquisition import AxisKeys, AxisSample, MoveState, MoveStatus, ZenohOptions, open_session
 from axisflow.acquisition.bus.readiness import JoinedSubscriber
 
-from axisflow.processes import wait_until
+from axisflow.deploy.processes import wait_until
 
 KEYS = AxisKeys()
 

@@ -22,7 +22,7 @@ from axisflow.model import EXECUTION_PERIOD_S, EnergyAccounting, default_params,
 from axisflow.viz.live_view import LiveView
 from axisflow.viz.outputs import RerunOutput, ViewOutput
 
-from axisflow.processes import free_port, wait_until
+from axisflow.deploy.processes import free_port, wait_until
 
 
 @pytest.mark.slow

@@ -30,7 +30,7 @@ from axisflow.acquisition.bus.publisher import SequencedPublisher, Traffic, wait
 from axisflow.acquisition.bus.readiness import JoinedSubscriber
 from axisflow.model import AxisParams
 
-from axisflow.processes import wait_until
+from axisflow.deploy.processes import wait_until
 
 PARAMS = AxisParams(
     m=20.0, J_m=1.5e-4, J_g=5e-5, J_p=2e-4, r=0.03, i_r=10.0, L=0.8,

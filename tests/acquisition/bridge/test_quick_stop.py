@@ -19,7 +19,7 @@ from axisflow.model import default_params, stop_profile
 from axisflow.planner import Case, MoveProblem, solve_exact
 from axisflow.planner.reference_laws import _Phases
 
-from axisflow.processes import wait_until
+from axisflow.deploy.processes import wait_until
 
 P = default_params()
 T0 = 1_700_000_000_000_000_000

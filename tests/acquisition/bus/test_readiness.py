@@ -21,7 +21,7 @@ from axisflow.acquisition.wire.keys import hello_key, recorder_token
 from axisflow.acquisition.wire.sequence import SequenceTracker
 from axisflow.model import default_params
 
-from axisflow.processes import wait_until
+from axisflow.deploy.processes import wait_until
 
 JOINS = 40
 """joins per test: without the hellos, 6–10 in 100 lost a run of samples (docs/acquisition.md)"""

@@ -7,7 +7,7 @@ import zenoh
 from axisflow.acquisition import ZenohConfigError, ZenohOptions, build_config, open_session
 from axisflow.acquisition.bus.session import RECONNECT_RETRY
 
-from axisflow.processes import wait_until
+from axisflow.deploy.processes import wait_until
 
 
 def _get(config, key):

@@ -12,7 +12,7 @@ from axisflow.acquisition.bus.readiness import wait_for_token
 from axisflow.acquisition.wire.keys import recorder_token
 from mcap.reader import make_reader
 
-from axisflow.processes import wait_until
+from axisflow.deploy.processes import wait_until
 
 
 def _record_while(

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from axisflow.acquisition import is_complete, iter_recording
 
-from axisflow.processes import wait_until
+from axisflow.deploy.processes import wait_until
 
 STATE = "/axisflow/a0/state"
 

@@ -14,7 +14,7 @@ from axisflow.acquisition.logs.recording_writer import LOSS_METADATA
 from axisflow.benchmarks.pipeline import PUBLISHER_ENTRY
 from mcap.reader import make_reader
 
-from axisflow.processes import wait_until
+from axisflow.deploy.processes import wait_until
 
 AXES, SECONDS = 32, 8.0
 STARVED_S = 2.0

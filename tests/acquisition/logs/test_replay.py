@@ -16,7 +16,7 @@ from axisflow.acquisition import (
 from axisflow.acquisition.logs.mcap_writer import Ros2McapWriter
 from axisflow.acquisition.logs.replay import replay
 
-from axisflow.processes import wait_until
+from axisflow.deploy.processes import wait_until
 
 T0 = 1_700_000_000_000_000_000
 MS = 1_000_000

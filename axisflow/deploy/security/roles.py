@@ -20,7 +20,7 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..acquisition.wire.keys import DEFAULT_PREFIX
+from ...acquisition.wire.keys import DEFAULT_PREFIX
 from .errors import SecurityArgumentError
 
 ROUTER = "router"

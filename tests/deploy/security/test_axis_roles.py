@@ -18,13 +18,13 @@ from axisflow.acquisition.drives.plant import load_plant
 from axisflow.acquisition.wire.move_status import MoveStatus
 from axisflow.model import load_params
 
-from axisflow.processes import wait_until
-from axisflow.security import SecurityArgumentError, SecurityPlan, acl_config, init_security, role_kind
-from axisflow.security.access_control import acl_roles
-from axisflow.security.add import add_roles
-from axisflow.security.roles import how_to_run, role_axes
+from axisflow.deploy.processes import wait_until
+from axisflow.deploy.security import SecurityArgumentError, SecurityPlan, acl_config, init_security, role_kind
+from axisflow.deploy.security.access_control import acl_roles
+from axisflow.deploy.security.add import add_roles
+from axisflow.deploy.security.roles import how_to_run, role_axes
 
-from ..conftest import free_port
+from ...conftest import free_port
 
 PARAMS = load_params(None)
 ROLES = ("planner@a0", "planner", "bridge@a0", "bridge@a1", "recorder@a1", "recorder")

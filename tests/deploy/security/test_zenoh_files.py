@@ -9,8 +9,8 @@ import json
 import pytest
 import zenoh
 
-from axisflow.security import SecurityError, SecurityPlan, add_roles, init_security
-from axisflow.security.zenoh_files import (
+from axisflow.deploy.security import SecurityError, SecurityPlan, add_roles, init_security
+from axisflow.deploy.security.zenoh_files import (
     check_loads_in_zenoh,
     client_config,
     read_json5,

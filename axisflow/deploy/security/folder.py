@@ -18,7 +18,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..model.files import atomic_path, check_writable
+from ...model.files import atomic_path, check_writable
 from .errors import SecurityError
 
 PRIVATE_MODE = 0o600

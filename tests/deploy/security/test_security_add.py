@@ -16,8 +16,8 @@ from axisflow.acquisition.bus.readiness import JoinedSubscriber
 from axisflow.acquisition.bus.session import build_config
 from cryptography import x509
 
-from axisflow.processes import free_port, wait_until
-from axisflow.security import (
+from axisflow.deploy.processes import free_port, wait_until
+from axisflow.deploy.security import (
     SecurityArgumentError,
     SecurityError,
     SecurityPlan,
@@ -25,7 +25,7 @@ from axisflow.security import (
     add_roles,
     init_security,
 )
-from axisflow.security import add as security_add
+from axisflow.deploy.security import add as security_add
 
 KEYS = AxisKeys("a0")
 

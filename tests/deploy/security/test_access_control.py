@@ -17,7 +17,7 @@ from axisflow.acquisition.drives.plant import load_plant
 from axisflow.acquisition.wire.move_status import MoveStatus
 from axisflow.model import load_params
 
-from axisflow.processes import wait_until
+from axisflow.deploy.processes import wait_until
 
 pytestmark = pytest.mark.slow
 
@@ -283,7 +283,7 @@ def test_the_commands_take_the_files_router_bridge_record(cli, tmp_path):
 
     from axisflow.acquisition import iter_recording
 
-    from axisflow.security import SecurityPlan, init_security
+    from axisflow.deploy.security import SecurityPlan, init_security
 
     from .conftest import Secure, free_port
 

@@ -39,7 +39,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from ..model import lazy_names
+from ...model import lazy_names
 
 if TYPE_CHECKING:  # what a type checker sees; at run time __getattr__ loads each name from _HOMES
     from .access_control import acl_config  # noqa: F401

@@ -35,10 +35,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .acquisition.bus.options import check_endpoint
-from .acquisition.wire.keys import DEFAULT_PREFIX, AxisKeys, all_keys
-from .model import AxisflowError
-from .model.toml_file import read_toml
+from ..acquisition.bus.options import check_endpoint
+from ..acquisition.wire.keys import DEFAULT_PREFIX, AxisKeys, all_keys
+from ..model import AxisflowError
+from ..model.toml_file import read_toml
 from .security.errors import SecurityArgumentError
 from .security.roles import role_axes, role_kind
 

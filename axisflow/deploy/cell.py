@@ -3,7 +3,7 @@
 A robot cell has several axes, each driven from a machine near its drive, and one place where
 everything is recorded (docs/deployment.md). On one machine — the demo, the tests, the benchmark — a
 :class:`Cell` starts the processes such a deployment runs on several, each an ``axisflow`` command of
-its own, through a :class:`~axisflow.processes.Launcher`:
+its own, through a :class:`~axisflow.deploy.processes.Launcher`:
 
 * one **router** (``axisflow router --listen EP``), the only listener of the cell;
 * one **bridge** per axis (``axisflow bridge --axis aK``), axes named ``a0``, ``a1``, …
@@ -16,7 +16,7 @@ when it is ready (the router: it listens; a bridge: it holds its token; the reco
 has joined), so nothing waits on a sleep; the recorder starts before the bridges, which wait for its
 subscriber before their first tick (so it records each from its first sample). :meth:`Cell.restart_router`
 stops the router and starts another on the same endpoint: the bridges keep their axes safe and every
-client reconnects by itself (docs/deployment.md, tests/top/test_cell.py).
+client reconnects by itself (docs/deployment.md, tests/deploy/test_cell.py).
 
 :func:`run_cell_demo` is ``axisflow demo --axes N``: N bridges, one recorder, a planner per axis; axis
 ``aK`` runs the paper's experiment (both cases, all three laws, the nominal parameters) over its own
@@ -34,13 +34,13 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .acquisition.bus.options import check_endpoint
-from .acquisition.wire.keys import DEFAULT_PREFIX, AxisKeys, all_keys, topic_for_key
-from .demo_settings import DemoSettings
-from .experiment.table2 import table_from_recording
-from .experiment.table2_record import Table2, write_table2
-from .model import AxisflowError, load_params
-from .model.files import write_atomic
+from ..acquisition.bus.options import check_endpoint
+from ..acquisition.wire.keys import DEFAULT_PREFIX, AxisKeys, all_keys, topic_for_key
+from ..demo_settings import DemoSettings
+from ..experiment.table2 import table_from_recording
+from ..experiment.table2_record import Table2, write_table2
+from ..model import AxisflowError, load_params
+from ..model.files import write_atomic
 from .processes import READY_TIMEOUT_S, STOP_TIMEOUT_S, Child, Exited, Launcher, free_port, last_line
 
 MAX_AXES = 32
@@ -356,7 +356,7 @@ def _pictures(
     out: Path, settings: DemoSettings, report: CellDemoReport, progress: Callable[[str], None]
 ) -> None:
     t0 = time.monotonic()
-    from .viz.session import write_session_rrd  # rerun: loaded when the demo draws
+    from ..viz.session import write_session_rrd  # rerun: loaded when the demo draws
 
     write_session_rrd([out / RECORDING], out / "cell.rrd", load_params(settings.params_path))
     report.phases_s["pictures"] = time.monotonic() - t0

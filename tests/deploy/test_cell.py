@@ -15,8 +15,8 @@ from axisflow.acquisition.logs.reader import read_joint_states, read_messages
 from axisflow.acquisition.wire.keys import topic_for_key
 from axisflow.model import default_params
 
-from axisflow.cell import Cell, CellLayout, axis_names
-from axisflow.processes import wait_until
+from axisflow.deploy.cell import Cell, CellLayout, axis_names
+from axisflow.deploy.processes import wait_until
 
 PARAMS = default_params()
 MOVES = ((0.0, 0.3, 4.0), (0.3, 0.7, 2.0))

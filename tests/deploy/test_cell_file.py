@@ -9,8 +9,8 @@ import textwrap
 import pytest
 from axisflow.acquisition.logs.recorded_axes import recorded_axes
 
-from axisflow.cell_file import CellFileError, load_cell_file
-from axisflow.security import SecurityPlan, init_security
+from axisflow.deploy.cell_file import CellFileError, load_cell_file
+from axisflow.deploy.security import SecurityPlan, init_security
 
 CELL = """
 router = "tcp/192.168.10.5:7447"

@@ -10,10 +10,10 @@ from pathlib import Path
 import pytest
 from axisflow.acquisition.bus.session import ZenohOptions, open_session
 
-from axisflow.security import SecurityPlan, init_security
-from axisflow.security.roles import DEFAULT_ROLES
+from axisflow.deploy.security import SecurityPlan, init_security
+from axisflow.deploy.security.roles import DEFAULT_ROLES
 
-from ..conftest import free_port
+from ...conftest import free_port
 
 
 @dataclass(frozen=True)

@@ -39,7 +39,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .model import AxisflowError
+from ..model import AxisflowError
 
 LIFELINE_ENV = "AXISFLOW_LIFELINE_FD"
 """the environment variable naming a child's lifeline file descriptor"""
@@ -260,7 +260,9 @@ def _command(entry: str, fsize_limit_bytes: int | None) -> list[str]:
         raise LaunchError(f"entry point {entry!r} is not of the form module:function")
     # the command line follows the lifeline itself; another entry point is made to here
     prelude = (
-        "" if entry == COMMAND_LINE else "from axisflow.processes import follow_launcher; follow_launcher(); "
+        ""
+        if entry == COMMAND_LINE
+        else "from axisflow.deploy.processes import follow_launcher; follow_launcher(); "
     )
     if fsize_limit_bytes is not None:
         # a disk that fills up: Python ignores SIGXFSZ, so a write past the limit fails with EFBIG

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..acquisition.wire.keys import all_keys
+from ...acquisition.wire.keys import all_keys
 from .errors import SecurityError
 from .roles import ROLE_GRANTS, role_axes, role_kind
 

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 from axisflow.acquisition import is_complete
 
-from axisflow.processes import Launcher, LaunchError, free_port, wait_until
+from axisflow.deploy.processes import Launcher, LaunchError, free_port, wait_until
 
 
 def test_a_child_says_when_it_is_ready_and_stops_cleanly_on_sigint(tmp_path):
@@ -94,7 +94,7 @@ def test_the_demos_children_end_when_the_demo_is_sigkilled(cli, tmp_path):
 
 _SIGNAL_INSIDE_WAIT = """
 import os, signal, sys
-from axisflow.processes import stop_on_signals
+from axisflow.deploy.processes import stop_on_signals
 
 with stop_on_signals() as stop:
     # the signal lands while the main thread holds the event's lock, as it does inside stop.wait()
@@ -124,7 +124,7 @@ def _thread_state(tid: int) -> str:
 _SIGNAL_WHILE_BLOCKED_IN_ZENOH = """
 import sys, threading, zenoh
 from axisflow.acquisition import ZenohOptions, open_session
-from axisflow.processes import stop_on_signals
+from axisflow.deploy.processes import stop_on_signals
 
 with stop_on_signals() as stop, open_session(ZenohOptions.loopback()) as session:
     sub = session.declare_subscriber("wake/**", zenoh.handlers.FifoChannel(4))
@@ -154,7 +154,7 @@ def test_a_stop_signal_sets_the_event_while_the_main_thread_waits_in_a_zenoh_rec
 
 
 def test_thread_cpu_seconds_names_each_thread_and_counts_its_own_work():
-    from axisflow.processes import cpu_seconds, thread_cpu_seconds
+    from axisflow.deploy.processes import cpu_seconds, thread_cpu_seconds
 
     me = threading.get_native_id()
     before = thread_cpu_seconds(os.getpid())

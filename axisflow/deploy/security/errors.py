@@ -1,12 +1,12 @@
-"""The errors of :mod:`axisflow.security`: one root, and the bad-argument kind (a ``ValueError``)."""
+"""The errors of :mod:`axisflow.deploy.security`: one root, and the bad-argument kind (a ``ValueError``)."""
 
 from __future__ import annotations
 
-from ..model import AxisflowError
+from ...model import AxisflowError
 
 
 class SecurityError(AxisflowError):
-    """Root of the errors of :mod:`axisflow.security`."""
+    """Root of the errors of :mod:`axisflow.deploy.security`."""
 
 
 class SecurityArgumentError(SecurityError, ValueError):

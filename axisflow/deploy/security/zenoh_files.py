@@ -17,7 +17,7 @@ from pathlib import Path
 
 import json5
 
-from ..acquisition.bus.options import RECONNECT_RETRY
+from ...acquisition.bus.options import RECONNECT_RETRY
 from .access_control import acl_config
 from .errors import SecurityError
 from .roles import ROUTER, role_kind

@@ -9,7 +9,7 @@ import datetime as dt
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..acquisition.wire.keys import DEFAULT_PREFIX
+from ...acquisition.wire.keys import DEFAULT_PREFIX
 from .access_control import acl_config, acl_roles
 from .certificates import issue_role, load_ca
 from .errors import SecurityError

@@ -16,7 +16,7 @@ from cryptography import x509
 from cryptography.hazmat.primitives import serialization
 from cryptography.x509.oid import ExtendedKeyUsageOID, NameOID
 
-from axisflow.security import (
+from axisflow.deploy.security import (
     ROLE_GRANTS,
     SecurityArgumentError,
     SecurityError,
