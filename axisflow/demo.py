@@ -68,8 +68,8 @@ def run_demo(
 ) -> DemoReport:
     """Run the demo (see the module docstring) into ``settings.out``."""
     from .acquisition.bus.session import ZenohOptions, open_session
-    from .excite import run_excitation
     from .identification.excitation import design_excitation
+    from .nodes.excite import run_excitation
 
     stop = stop or threading.Event()
     out = settings.out
@@ -201,7 +201,7 @@ def _run_experiment(
     progress: Callable[[str], None],
     stop: threading.Event,
 ) -> None:
-    from .planner_node import NodeRun, NodeSettings, PlannerNode
+    from .nodes.planner_node import NodeRun, NodeSettings, PlannerNode
 
     runs = tuple(NodeRun(case, law) for case in CASES for law in LAWS)
     node_settings = NodeSettings(keys, runs, DEFAULT_OMEGA, settings.lookahead, settings.lookahead_s, label)

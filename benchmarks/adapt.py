@@ -107,13 +107,13 @@ def run(args: argparse.Namespace) -> int:
     from ..acquisition.bus.session import ZenohOptions, open_session
     from ..acquisition.wire.keys import AxisKeys, recorder_token
     from ..deploy.processes import READY_TIMEOUT_S, Launcher, free_port, stop_on_signals
-    from ..excite import run_excitation
     from ..experiment.refit_folder import identify_to
     from ..experiment.waypoints import random_waypoints
     from ..identification.excitation import design_excitation
     from ..identification.refit import IdentifySettings
     from ..model import AxisflowError, default_params, load_params
     from ..model.files import check_output_dir, ensure_dir
+    from ..nodes.excite import run_excitation
 
     if not (math.isfinite(args.minutes) and 1.0 <= args.minutes <= 600.0):
         raise AxisflowError(f"--minutes {args.minutes:g} must be in [1, 600] min of axis time")
@@ -290,8 +290,8 @@ def _planner(
     session: Any, way: str, params: Any, adapt: bool, waypoints: Any, n_passes: int, stop: threading.Event
 ) -> Any:
     from ..acquisition.wire.keys import AxisKeys
+    from ..nodes.planner_node import NodeRun, NodeSettings, PlannerNode
     from ..planner import DEFAULT_OMEGA, Case, ExactBackend
-    from ..planner_node import NodeRun, NodeSettings, PlannerNode
 
     runs = tuple(NodeRun(Case.MIN_TIME, LAWS[k % len(LAWS)]) for k in range(n_passes))
     runs += (NodeRun(Case.MIN_TIME_ENERGY, "poly5"),)

@@ -201,7 +201,7 @@ def during_moves(tmp: Path, waypoints: int, law: str) -> dict[str, object]:
 
     from axisflow.experiment.offline import CASES
     from axisflow.experiment.waypoints import random_waypoints
-    from axisflow.planner_node import NodeRun, NodeSettings, PlannerNode
+    from axisflow.nodes.planner_node import NodeRun, NodeSettings, PlannerNode
 
     params = default_params()
     points = random_waypoints(waypoints, 0, params)

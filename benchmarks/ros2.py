@@ -190,8 +190,8 @@ def publisher_main() -> None:
     import rclpy
     from axisflow.acquisition.wire.messages import AxisSample
 
-    from axisflow.ros2.qos import JOINT_STATES_QOS
-    from axisflow.ros2.ros_messages import joint_state, ros_time
+    from axisflow.nodes.ros2.qos import JOINT_STATES_QOS
+    from axisflow.nodes.ros2.ros_messages import joint_state, ros_time
 
     topic, seconds = sys.argv[1], float(sys.argv[2])
     context = _ros_context()
@@ -230,8 +230,8 @@ def _relay_costs(samples: int) -> dict[str, float]:
     from rclpy.serialization import deserialize_message
     from sensor_msgs.msg import JointState
 
-    from axisflow.ros2.qos import JOINT_STATES_QOS
-    from axisflow.ros2.ros_messages import joint_state
+    from axisflow.nodes.ros2.qos import JOINT_STATES_QOS
+    from axisflow.nodes.ros2.ros_messages import joint_state
 
     data = AxisSample(1_700_000_000_000_000_000, AXIS, 0.1, 0.2, 3.0, 25.0, 50.0, 0.5).encode()
     context = _ros_context()
@@ -268,7 +268,7 @@ def run(args: argparse.Namespace) -> int:
     from axisflow.model import AxisflowError
 
     from axisflow.deploy import private_network
-    from axisflow.ros2.environment import RosEnvironment, require_rclpy
+    from axisflow.nodes.ros2.environment import RosEnvironment, require_rclpy
 
     if not args.seconds > 0:
         raise AxisflowError(f"--seconds {args.seconds:g} must be > 0 s")

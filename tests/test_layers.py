@@ -22,7 +22,7 @@ FOLDERS = {
     "axisflow/experiment": "top",
     "axisflow/deploy": "top",
     "axisflow/faults": "top",
-    "axisflow/ros2": "top",
+    "axisflow/nodes": "top",
     "axisflow": "top",
 }
 # what each layer may import (besides itself); the README's layout table says the same

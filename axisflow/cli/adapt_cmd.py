@@ -77,11 +77,11 @@ def run(args: argparse.Namespace) -> int:
     from ..acquisition.bus.session import open_session
     from ..acquisition.wire.keys import AxisKeys
     from ..acquisition.wire.params_estimate import ParamsEstimate
-    from ..adapt_node import AdaptNode
     from ..arguments import params_from_args
     from ..deploy.processes import notify_ready, stop_on_signals
     from ..identification.errors import IdentificationError
     from ..identification.online import Adapter, AdaptSettings, load_fit_libraries
+    from ..nodes.adapt_node import AdaptNode
 
     if args.duration is not None and not args.duration > 0.0:
         raise IdentificationError(f"--duration {args.duration:g} s must be > 0 s")

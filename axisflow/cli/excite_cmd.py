@@ -56,8 +56,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ..acquisition.bus.session import open_session
-    from ..excite import run_excitation
     from ..identification.excitation import design_excitation
+    from ..nodes.excite import run_excitation
 
     params = params_from_args(args)
     plan = design_excitation(params, args.duration, args.center, args.torque_margin)

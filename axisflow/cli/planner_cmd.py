@@ -26,7 +26,7 @@ from ..planner import DEFAULT_OMEGA, Case
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 if TYPE_CHECKING:
-    from ..planner_node import RunReport
+    from ..nodes.planner_node import RunReport
 
 
 def _names(choices: tuple[str, ...], what: str) -> Callable[[str], tuple[str, ...]]:
@@ -110,7 +110,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from ..acquisition.bus.session import open_session
     from ..experiment.waypoints import load_waypoints, random_waypoints
-    from ..planner_node import NodeRun, NodeSettings, PlannerNode
+    from ..nodes.planner_node import NodeRun, NodeSettings, PlannerNode
 
     params = params_from_args(args)
     points = (

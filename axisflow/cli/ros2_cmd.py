@@ -66,9 +66,9 @@ def run(args: argparse.Namespace) -> int:
     from ..acquisition.bus.session import open_session
     from ..arguments import backend_from_args, params_from_args
     from ..deploy.processes import notify_ready, stop_on_signals
-    from ..ros2.environment import RosEnvironment, require_rclpy
-    from ..ros2.settings import MotionSettings, NodeSettings
-    from ..ros2.trajectory_plan import TrajectoryPlanner
+    from ..nodes.ros2.environment import RosEnvironment, require_rclpy
+    from ..nodes.ros2.settings import MotionSettings, NodeSettings
+    from ..nodes.ros2.trajectory_plan import TrajectoryPlanner
 
     settings = NodeSettings(
         AxisKeys(args.axis, args.prefix), MotionSettings(Case(args.case), args.law, args.omega), args.rate
@@ -78,7 +78,7 @@ def run(args: argparse.Namespace) -> int:
     require_rclpy()
     environment = RosEnvironment.from_environ()
     planner.prepare()
-    from ..ros2.node import AxisNode, run_node  # rclpy: only now
+    from ..nodes.ros2.node import AxisNode, run_node  # rclpy: only now
 
     def announce(node: AxisNode) -> None:
         if not args.json:

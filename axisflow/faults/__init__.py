@@ -16,7 +16,7 @@ scenario             fault → what must hold
                      the restarted bridge as a new publisher; the restart (same ``--plant-state``)
                      starts at rest where the axis coasted to
 :mod:`.planner_kill` planner SIGKILL → its queued moves dropped, the axis at rest within [0, L]
-                     (the test is tests/top/test_planner_restart.py)
+                     (the test is tests/nodes/test_planner_restart.py)
 :mod:`.bad_payloads` ≥ 1000 malformed, truncated, oversized, random payloads on the trajectory key
                      from a live sender and from a session that is not one → each rejected with a
                      reason; every tick recorded, 1 ms apart

@@ -1,5 +1,5 @@
 """Fault 3: the planner SIGKILLed with moves queued → its queued moves dropped, the axis at rest within
-[0, L] (the test, with a restart, is tests/top/test_planner_restart.py)."""
+[0, L] (the test, with a restart, is tests/nodes/test_planner_restart.py)."""
 
 from __future__ import annotations
 
@@ -55,7 +55,7 @@ class PlannerKillResult(FaultResult):
             f"{c['accepted']} accepted, {c['started']} started and completed, {c['dropped']} dropped "
             f"{self.drop_after_s * 1e3:.0f} ms after the kill; at rest at {self.rest_setpoint[0]:.4f} m (the "
             f"last completed move's end), measured speed ≤ {self.rest_speed_m_s * 1e3:.2f} mm/s; telemetry "
-            "complete (test: tests/top/test_planner_restart.py, which also restarts the planner)",
+            "complete (test: tests/nodes/test_planner_restart.py, which also restarts the planner)",
             "axisflow bench faults --only planner_kill",
             {
                 "counts": self.counts,

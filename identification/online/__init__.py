@@ -9,7 +9,7 @@ and the rules that decide whether an estimate replaces the accepted parameters (
 * :mod:`.adapter` — the state of one axis's adaptation: window → fit → verdict → a
   :class:`~axisflow.acquisition.wire.params_estimate.ParamsEstimate` record.
 
-No Zenoh here: ``axisflow adapt`` (axisflow/adapt_node.py) feeds an :class:`~.adapter.Adapter` from the
+No Zenoh here: ``axisflow adapt`` (axisflow/nodes/adapt_node.py) feeds an :class:`~.adapter.Adapter` from the
 bus; tests and benchmarks can feed it from anything.
 """
 

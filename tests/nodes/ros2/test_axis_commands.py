@@ -12,10 +12,10 @@ from axisflow.model import default_params
 from axisflow.planner import make_backend
 
 from axisflow.deploy.processes import wait_until
-from axisflow.ros2.axis_commands import AxisCommands
-from axisflow.ros2.errors import Ros2Error
-from axisflow.ros2.settings import MotionSettings
-from axisflow.ros2.trajectory_plan import TrajectoryPlanner
+from axisflow.nodes.ros2.axis_commands import AxisCommands
+from axisflow.nodes.ros2.errors import Ros2Error
+from axisflow.nodes.ros2.settings import MotionSettings
+from axisflow.nodes.ros2.trajectory_plan import TrajectoryPlanner
 
 KEYS = AxisKeys("a0")
 

@@ -7,7 +7,7 @@ from axisflow.acquisition import AxisKeys, ZenohOptions, open_session
 from axisflow.model import AxisflowError, default_params
 from axisflow.planner import Case, make_backend
 
-from axisflow.planner_node import NodeRun, NodeSettings, PlannerNode
+from axisflow.nodes.planner_node import NodeRun, NodeSettings, PlannerNode
 
 WAYPOINTS = np.array([0.1, 0.55, 0.2, 0.7, 0.35, 0.6, 0.05, 0.4])
 
@@ -94,7 +94,7 @@ def test_a_move_the_bridge_refuses_stops_the_run_with_its_reason(thread_bridge, 
 
 
 def test_no_bridge_is_a_clear_error_not_a_hang(port):
-    import axisflow.planner_node as node_module
+    import axisflow.nodes.planner_node as node_module
 
     with open_session(ZenohOptions.loopback(listen_port=port)) as session:
         old, node_module.BRIDGE_TIMEOUT_S = node_module.BRIDGE_TIMEOUT_S, 1.0

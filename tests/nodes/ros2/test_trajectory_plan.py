@@ -10,10 +10,10 @@ import pytest
 from axisflow.model import EXECUTION_PERIOD_S, Move, check_limits, default_params, move_ticks, polynomial_law
 from axisflow.planner import Case, ExactBackend, MoveProblem, make_backend
 
-from axisflow.ros2.errors import TrajectoryRefusedError
-from axisflow.ros2.settings import MotionSettings
-from axisflow.ros2.trajectory_plan import FIXED_DURATION, TrajectoryPlanner
-from axisflow.ros2.trajectory_request import TrajectoryRequest, WayPoint
+from axisflow.nodes.ros2.errors import TrajectoryRefusedError
+from axisflow.nodes.ros2.settings import MotionSettings
+from axisflow.nodes.ros2.trajectory_plan import FIXED_DURATION, TrajectoryPlanner
+from axisflow.nodes.ros2.trajectory_request import TrajectoryRequest, WayPoint
 
 
 @pytest.fixture(scope="module")

@@ -14,7 +14,7 @@ from axisflow.model import AxisParams, default_params
 from axisflow.planner import Case, ExactBackend, MoveProblem, make_backend
 
 from axisflow.deploy.processes import wait_until
-from axisflow.planner_node import NodeRun, NodeSettings, PlannerNode
+from axisflow.nodes.planner_node import NodeRun, NodeSettings, PlannerNode
 
 KEYS = AxisKeys("a0")
 WAYPOINTS = np.array([0.1, 0.55, 0.2, 0.7, 0.35, 0.6, 0.05, 0.4, 0.75, 0.3, 0.65, 0.15, 0.5, 0.25])

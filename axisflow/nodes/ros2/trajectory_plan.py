@@ -31,10 +31,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..model import EXECUTION_PERIOD_S, MAX_MOVE_DURATION_S, AxisParams, move_ticks, polynomial_law
-from ..model.encoder import encoder_resolution_m
-from ..planner import Case, ExactBackend, MoveProblem, PlannerBackend, PlanResult, SolveStatus
-from ..planner.evaluation import finish
+from ...model import EXECUTION_PERIOD_S, MAX_MOVE_DURATION_S, AxisParams, move_ticks, polynomial_law
+from ...model.encoder import encoder_resolution_m
+from ...planner import Case, ExactBackend, MoveProblem, PlannerBackend, PlanResult, SolveStatus
+from ...planner.evaluation import finish
 from .errors import TrajectoryRefusedError
 from .settings import MotionSettings
 from .trajectory_request import TrajectoryRequest

@@ -9,7 +9,7 @@ import pytest
 
 pytest.importorskip("rclpy", reason='ROS 2 is not installed (pip install "axisflow[ros2]")')
 
-from axisflow.ros2.joint_state_relay import Decimator
+from axisflow.nodes.ros2.joint_state_relay import Decimator
 
 T0_NS = 1_700_000_000_000_000_000
 TICK_NS = 1_000_000

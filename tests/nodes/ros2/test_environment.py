@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from axisflow.ros2.environment import RosEnvironment
-from axisflow.ros2.errors import Ros2Error
+from axisflow.nodes.ros2.environment import RosEnvironment
+from axisflow.nodes.ros2.errors import Ros2Error
 
 
 def test_the_defaults_are_domain_0_and_the_subnet():

@@ -33,7 +33,7 @@ Modules, one concept each:
 * :mod:`.private_network` — a private network namespace for DDS runs that must stay on this machine.
 
 rclpy is imported only by :mod:`.qos`, :mod:`.ros_messages`, :mod:`.joint_state_relay` and
-:mod:`.node`, so the rest (and ``import axisflow.ros2``) works without ROS 2 installed.
+:mod:`.node`, so the rest (and ``import axisflow.nodes.ros2``) works without ROS 2 installed.
 """
 
 from .errors import Ros2Error, Ros2UnavailableError, TrajectoryRefusedError

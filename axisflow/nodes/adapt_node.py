@@ -27,14 +27,14 @@ from dataclasses import dataclass, field
 import numpy as np
 import zenoh
 
-from .acquisition.bus.publisher import SequencedPublisher, Traffic
-from .acquisition.bus.readiness import JoinedSubscriber
-from .acquisition.errors import WireError
-from .acquisition.logs.joint_state_layout import JointStateLayout
-from .acquisition.wire.keys import AxisKeys
-from .acquisition.wire.messages import MOTOR_JOINT, JointState
-from .acquisition.wire.params_estimate import PARAMS_ESTIMATE_TYPE, ParamsEstimate
-from .identification.online import Adapter
+from ..acquisition.bus.publisher import SequencedPublisher, Traffic
+from ..acquisition.bus.readiness import JoinedSubscriber
+from ..acquisition.errors import WireError
+from ..acquisition.logs.joint_state_layout import JointStateLayout
+from ..acquisition.wire.keys import AxisKeys
+from ..acquisition.wire.messages import MOTOR_JOINT, JointState
+from ..acquisition.wire.params_estimate import PARAMS_ESTIMATE_TYPE, ParamsEstimate
+from ..identification.online import Adapter
 
 QUEUE_CAPACITY = 65_536
 """samples the Zenoh channel holds (65 s of a 1 kHz axis; when full it holds the publisher back)"""

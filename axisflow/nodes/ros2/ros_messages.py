@@ -7,7 +7,7 @@ from builtin_interfaces.msg import Time
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from sensor_msgs.msg import JointState
 
-from ..acquisition.wire.messages import AXIS_JOINTS, AxisSample
+from ...acquisition.wire.messages import AXIS_JOINTS, AxisSample
 from .axis_health import HealthStatus
 
 NS_PER_S = 1_000_000_000

@@ -5,10 +5,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from ..acquisition.wire.keys import AxisKeys
-from ..model import EXECUTION_RATE_HZ
-from ..model.motion_laws import POLYNOMIAL_LAWS
-from ..planner.problem import DEFAULT_OMEGA, Case
+from ...acquisition.wire.keys import AxisKeys
+from ...model import EXECUTION_RATE_HZ
+from ...model.motion_laws import POLYNOMIAL_LAWS
+from ...planner.problem import DEFAULT_OMEGA, Case
 from .errors import Ros2Error
 from .names import RosNames
 

@@ -12,9 +12,9 @@ from __future__ import annotations
 
 import zenoh
 
-from ..acquisition.errors import WireError
-from ..acquisition.wire.keys import AxisKeys
-from ..acquisition.wire.move_status import MoveStatus
+from ...acquisition.errors import WireError
+from ...acquisition.wire.keys import AxisKeys
+from ...acquisition.wire.move_status import MoveStatus
 
 EVENT_BACKLOG = 1 << 14
 """statuses held before the bridge's publication waits (the node polls every few ms)"""

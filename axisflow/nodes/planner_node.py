@@ -59,15 +59,15 @@ from dataclasses import dataclass, field
 import numpy as np
 import zenoh
 
-from .acquisition import PLAN_TYPE, AxisKeys, MoveCommand, MoveState, MoveStatus, PlanRecord
-from .acquisition.bridge.move_queue import CHECK_POINTS
-from .acquisition.bus.accepted_params import AcceptedParams
-from .acquisition.bus.axis_state import AxisState
-from .acquisition.bus.move_sender import BRIDGE_TIMEOUT_S, MoveSender
-from .acquisition.bus.publisher import SequencedPublisher, Traffic
-from .acquisition.errors import WireError
-from .model import AxisflowError, AxisParams, Move, check_limits, polynomial_law
-from .planner import Case, ExactBackend, MoveProblem, PlannerBackend, PlanResult, SolveStatus
+from ..acquisition import PLAN_TYPE, AxisKeys, MoveCommand, MoveState, MoveStatus, PlanRecord
+from ..acquisition.bridge.move_queue import CHECK_POINTS
+from ..acquisition.bus.accepted_params import AcceptedParams
+from ..acquisition.bus.axis_state import AxisState
+from ..acquisition.bus.move_sender import BRIDGE_TIMEOUT_S, MoveSender
+from ..acquisition.bus.publisher import SequencedPublisher, Traffic
+from ..acquisition.errors import WireError
+from ..model import AxisflowError, AxisParams, Move, check_limits, polynomial_law
+from ..planner import Case, ExactBackend, MoveProblem, PlannerBackend, PlanResult, SolveStatus
 
 _REFUSED_STATUSES = (SolveStatus.DEADLINE, SolveStatus.FAILED, SolveStatus.INFEASIBLE)
 """plan statuses the node never sends (a capped IPOPT iterate is sent when it meets the limits)"""

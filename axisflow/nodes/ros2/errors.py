@@ -1,12 +1,12 @@
-"""The errors of :mod:`axisflow.ros2`: one root, and the refusal of a trajectory."""
+"""The errors of :mod:`axisflow.nodes.ros2`: one root, and the refusal of a trajectory."""
 
 from __future__ import annotations
 
-from ..model import AxisflowError
+from ...model import AxisflowError
 
 
 class Ros2Error(AxisflowError):
-    """Root of the errors of :mod:`axisflow.ros2`."""
+    """Root of the errors of :mod:`axisflow.nodes.ros2`."""
 
 
 class Ros2UnavailableError(Ros2Error):

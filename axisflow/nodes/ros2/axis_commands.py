@@ -22,10 +22,10 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from ..acquisition.bus.axis_state import AxisState
-from ..acquisition.bus.move_sender import BRIDGE_TIMEOUT_S, MoveSender
-from ..acquisition.wire.move_status import MoveState, MoveStatus
-from ..acquisition.wire.quick_stop import STOP_MOVE_ID
+from ...acquisition.bus.axis_state import AxisState
+from ...acquisition.bus.move_sender import BRIDGE_TIMEOUT_S, MoveSender
+from ...acquisition.wire.move_status import MoveState, MoveStatus
+from ...acquisition.wire.quick_stop import STOP_MOVE_ID
 from .axis_health import Level
 from .errors import Ros2Error, TrajectoryRefusedError
 from .trajectory_plan import PlannedMove, TrajectoryPlan, TrajectoryPlanner

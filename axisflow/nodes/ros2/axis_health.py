@@ -28,8 +28,8 @@ import time
 from dataclasses import dataclass
 from enum import IntEnum
 
-from ..acquisition.wire.move_status import DRIVE_EVENTS, MoveState, MoveStatus
-from ..acquisition.wire.quick_stop import STOP_MOVE_ID
+from ...acquisition.wire.move_status import DRIVE_EVENTS, MoveState, MoveStatus
+from ...acquisition.wire.quick_stop import STOP_MOVE_ID
 
 SAMPLES_STALE_S = 1.0
 """a bridge whose last sample is older than this (wall time) makes the drive status STALE [s]"""

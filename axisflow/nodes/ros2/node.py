@@ -1,4 +1,4 @@
-"""The rclpy node of one axis (see :mod:`axisflow.ros2` for its topics and services).
+"""The rclpy node of one axis (see :mod:`axisflow.nodes.ros2` for its topics and services).
 
 Threads: rclpy's executor runs on the caller's thread (:meth:`AxisNode.spin`): the trajectory
 subscription, the two services and two timers — one polls the bridge's statuses every
@@ -30,10 +30,10 @@ from sensor_msgs.msg import JointState
 from std_srvs.srv import Trigger
 from trajectory_msgs.msg import JointTrajectory
 
-from ..acquisition.bus.axis_state import AxisState
-from ..acquisition.bus.move_sender import MoveSender
-from ..acquisition.wire.move_status import MoveState, MoveStatus
-from ..model import AxisflowError
+from ...acquisition.bus.axis_state import AxisState
+from ...acquisition.bus.move_sender import MoveSender
+from ...acquisition.wire.move_status import MoveState, MoveStatus
+from ...model import AxisflowError
 from .axis_commands import AxisCommands
 from .axis_health import DRIVE_EVENT_LEVELS, MOVE_LEVELS, AxisHealth, Level
 from .event_watch import EventWatch

@@ -18,13 +18,13 @@ from dataclasses import dataclass, field
 
 import zenoh
 
-from .acquisition import AxisKeys, MoveCommand, MoveRejectedError, MoveState, MoveStatus
-from .acquisition.bus.axis_state import AxisState, DriveWatch
-from .acquisition.bus.move_sender import BRIDGE_TIMEOUT_S, MoveSender
-from .identification.excitation import ExcitationPlan
-from .identification.signals import TimeWindow
-from .model import AxisflowError, AxisParams, polynomial_law
-from .planner import Case, MoveProblem, solve_exact
+from ..acquisition import AxisKeys, MoveCommand, MoveRejectedError, MoveState, MoveStatus
+from ..acquisition.bus.axis_state import AxisState, DriveWatch
+from ..acquisition.bus.move_sender import BRIDGE_TIMEOUT_S, MoveSender
+from ..identification.excitation import ExcitationPlan
+from ..identification.signals import TimeWindow
+from ..model import AxisflowError, AxisParams, polynomial_law
+from ..planner import Case, MoveProblem, solve_exact
 
 _SLACK_S = 60.0
 DRIVE_INFO_WAIT_S = 2.0

@@ -30,12 +30,12 @@ from typing import Any
 
 import zenoh
 
-from ..acquisition.bus.readiness import JoinedSubscriber
-from ..acquisition.errors import WireError
-from ..acquisition.wire.attachment import unpack_attachment
-from ..acquisition.wire.keys import AxisKeys
-from ..acquisition.wire.messages import AxisSample
-from ..acquisition.wire.sequence import SequenceTracker
+from ...acquisition.bus.readiness import JoinedSubscriber
+from ...acquisition.errors import WireError
+from ...acquisition.wire.attachment import unpack_attachment
+from ...acquisition.wire.keys import AxisKeys
+from ...acquisition.wire.messages import AxisSample
+from ...acquisition.wire.sequence import SequenceTracker
 
 NS_PER_S = 1_000_000_000
 RELAY_BACKLOG = 10_000

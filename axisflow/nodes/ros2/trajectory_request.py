@@ -4,7 +4,7 @@ The axis has one commanded joint, ``carriage`` (position in m); the ``motor`` jo
 follows from it and is ignored when given. Each point is a way point the axis moves to and stops at
 (axisflow's moves are rest to rest); its ``time_from_start``, when not zero, asks the axis to arrive
 then, counted from the start of the trajectory's first move. A trajectory is read whole or refused
-whole (:class:`~axisflow.ros2.errors.TrajectoryRefusedError`, naming the point and the value):
+whole (:class:`~axisflow.nodes.ros2.errors.TrajectoryRefusedError`, naming the point and the value):
 
 * ``joint_names`` must name ``carriage`` (and may name ``motor``), each once, nothing else;
 * every point has one finite position per joint name; velocities, accelerations and efforts are
@@ -22,8 +22,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from ..acquisition.bridge.move_queue import MAX_QUEUED_MOVES
-from ..acquisition.wire.messages import CARRIAGE_JOINT, MOTOR_JOINT
+from ...acquisition.bridge.move_queue import MAX_QUEUED_MOVES
+from ...acquisition.wire.messages import CARRIAGE_JOINT, MOTOR_JOINT
 from .errors import TrajectoryRefusedError
 
 NS_PER_S = 1_000_000_000

@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 from axisflow.acquisition.wire.move_status import DRIVE_EVENTS, MoveState, MoveStatus
 
-from axisflow.ros2.axis_health import (
+from axisflow.nodes.ros2.axis_health import (
     DRIVE_EVENT_LEVELS,
     MOVE_LEVELS,
     SAMPLES_STALE_S,

@@ -10,8 +10,8 @@ trajectory_msgs = pytest.importorskip(
 )
 from builtin_interfaces.msg import Duration, Time  # noqa: E402
 
-from axisflow.ros2.errors import TrajectoryRefusedError  # noqa: E402
-from axisflow.ros2.trajectory_request import WayPoint, read_trajectory  # noqa: E402
+from axisflow.nodes.ros2.errors import TrajectoryRefusedError  # noqa: E402
+from axisflow.nodes.ros2.trajectory_request import WayPoint, read_trajectory  # noqa: E402
 
 JointTrajectory, JointTrajectoryPoint = trajectory_msgs.JointTrajectory, trajectory_msgs.JointTrajectoryPoint
 
