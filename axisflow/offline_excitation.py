@@ -8,7 +8,7 @@ tick the drive's sample (unless the plant lost it) and the setpoint are written,
 writes them, to an MCAP file (:class:`~axisflow.acquisition.logs.mcap_writer.Ros2McapWriter`:
 ``/<prefix>/<axis>/state`` and ``setpoint``, and the drive's DriveInfo once a second; publish time =
 the sample's stamp, log time 0.4 ms later, sequence numbers per topic). The tests and the docs'
-figures of the realistic plant use it; the end-to-end path with real processes is tests/top.
+figures of the realistic plant use it; the end-to-end path with real processes is tests/demo.
 """
 
 from __future__ import annotations

@@ -23,6 +23,7 @@ FOLDERS = {
     "axisflow/deploy": "top",
     "axisflow/faults": "top",
     "axisflow/nodes": "top",
+    "axisflow/demo": "top",
     "axisflow": "top",
 }
 # what each layer may import (besides itself); the README's layout table says the same

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from ..acquisition.drives.plant_profiles import DEFAULT_PROFILE, PROFILE_RESOURCES
 from ..arguments import finite_float, non_negative_int, positive_int, waypoint_count
-from ..demo_settings import DEFAULT_LOOKAHEAD, DEFAULT_LOOKAHEAD_S, DEFAULT_WAYPOINTS, DemoSettings
+from ..demo.settings import DEFAULT_LOOKAHEAD, DEFAULT_LOOKAHEAD_S, DEFAULT_WAYPOINTS, DemoSettings
 from ..deploy.processes import stop_on_signals
 from ..model import AxisflowError
 from ..planner import BACKENDS
@@ -101,7 +101,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..demo import run_demo
+    from ..demo.loop import run_demo
     from ..experiment.table2_record import table_markdown
     from ..model.files import check_output_dir
 

@@ -36,7 +36,7 @@ from pathlib import Path
 
 from ..acquisition.bus.options import check_endpoint
 from ..acquisition.wire.keys import DEFAULT_PREFIX, AxisKeys, all_keys, topic_for_key
-from ..demo_settings import DemoSettings
+from ..demo.settings import DemoSettings
 from ..experiment.table2 import table_from_recording
 from ..experiment.table2_record import Table2, write_table2
 from ..model import AxisflowError, load_params

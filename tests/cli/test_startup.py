@@ -21,7 +21,7 @@ HEAVY = ("scipy", "casadi", "zenoh", "rerun", "matplotlib", "can", "canopen")
 DATA_PATH_LIBRARIES = ("mcap", "zstandard", "lz4", "zlib_ng", "cryptography", "json5")
 """what the parsers loaded before their constants found light homes (issue 23, goal 3)"""
 MACHINERY = (
-    "axisflow.demo",
+    "axisflow.demo.loop",
     "axisflow.experiment.offline",
     "axisflow.experiment.table2",
     "axisflow.acquisition.bridge.move_queue",

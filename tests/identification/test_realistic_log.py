@@ -5,7 +5,7 @@ within 3 %, a2 within 5 %, the held-out error within 1.2 × the noise floor the 
 
 The logs are made offline (axisflow.offline_excitation: the simulated axis driven through the bridge's
 move queue with the excitation's moves, written with the project's MCAP writer; the path through real
-processes is tests/top): one to fit, one with another noise seed to validate on (the same stretch of
+processes is tests/demo): one to fit, one with another noise seed to validate on (the same stretch of
 the stroke; the friction there is what the fit saw).
 """
 

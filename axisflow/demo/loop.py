@@ -18,7 +18,7 @@ their own, on an embedded Zenoh peer network on loopback, then, in this process:
 
 Everything lands in one session folder. The bridge runs as fast as the recorder takes its samples
 (``--speed 0``; between the phases, with nobody recording, it waits) so that ~25 minutes of axis time
-take a few minutes; the way point count defaults to :data:`~axisflow.demo_settings.DEFAULT_WAYPOINTS`
+take a few minutes; the way point count defaults to :data:`~axisflow.demo.settings.DEFAULT_WAYPOINTS`
 (the paper used 100). The bridge and the recorders are started by a
 :class:`~axisflow.deploy.processes.Launcher`: Ctrl-C (or SIGTERM) stops everything cleanly — the recordings
 are finished — and even a SIGKILL of the demo leaves no process running (they follow the launcher's
@@ -37,19 +37,19 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .acquisition import AxisKeys
-from .acquisition.drives.plant import load_profile
-from .acquisition.wire.keys import recorder_token
-from .demo_settings import DemoSettings
-from .deploy.processes import READY_TIMEOUT_S, Child, Launcher, free_port
-from .experiment.offline import CASES
-from .experiment.paper import FIG5_WAYPOINTS, LAWS
-from .experiment.table2 import table_from_recording
-from .experiment.table2_record import Table2, write_table2
-from .experiment.waypoints import random_waypoints
-from .model import AxisflowError, AxisParams, load_params
-from .model.files import write_atomic
-from .planner import DEFAULT_OMEGA, make_backend
+from ..acquisition import AxisKeys
+from ..acquisition.drives.plant import load_profile
+from ..acquisition.wire.keys import recorder_token
+from ..deploy.processes import READY_TIMEOUT_S, Child, Launcher, free_port
+from ..experiment.offline import CASES
+from ..experiment.paper import FIG5_WAYPOINTS, LAWS
+from ..experiment.table2 import table_from_recording
+from ..experiment.table2_record import Table2, write_table2
+from ..experiment.waypoints import random_waypoints
+from ..model import AxisflowError, AxisParams, load_params
+from ..model.files import write_atomic
+from ..planner import DEFAULT_OMEGA, make_backend
+from .settings import DemoSettings
 
 
 @dataclass
@@ -67,9 +67,9 @@ def run_demo(
     settings: DemoSettings, progress: Callable[[str], None], stop: threading.Event | None = None
 ) -> DemoReport:
     """Run the demo (see the module docstring) into ``settings.out``."""
-    from .acquisition.bus.session import ZenohOptions, open_session
-    from .identification.excitation import design_excitation
-    from .nodes.excite import run_excitation
+    from ..acquisition.bus.session import ZenohOptions, open_session
+    from ..identification.excitation import design_excitation
+    from ..nodes.excite import run_excitation
 
     stop = stop or threading.Event()
     out = settings.out
@@ -110,8 +110,8 @@ def run_demo(
             children.check_alive(bridge)
             # 2. identification
             t0 = time.monotonic()
-            from .experiment.refit_folder import identify_to
-            from .identification.refit import IdentifySettings  # CasADi: loaded when the demo fits
+            from ..experiment.refit_folder import identify_to
+            from ..identification.refit import IdentifySettings  # CasADi: loaded when the demo fits
 
             # the excitation's moves only: what was recorded around them is of no use
             _ident, refit_report = identify_to(
@@ -138,8 +138,8 @@ def run_demo(
         children.stop(bridge)
         report.phases_s["bridge-stop"] = time.monotonic() - t0
         t0 = time.monotonic()
-        from .viz.figures import write_figures  # rerun and matplotlib: loaded when the demo draws
-        from .viz.session import write_session_rrd
+        from ..viz.figures import write_figures  # rerun and matplotlib: loaded when the demo draws
+        from ..viz.session import write_session_rrd
 
         recordings = [out / "excitation.mcap", out / "experiment-nominal.mcap", out / "experiment-refit.mcap"]
         write_session_rrd(recordings, out / "session.rrd", nominal)
@@ -171,7 +171,7 @@ class _recording:  # noqa: N801 - a context manager, read as a phrase
         self.proc: Child | None = None
 
     def __enter__(self) -> None:
-        from .acquisition.bus.readiness import wait_for_token
+        from ..acquisition.bus.readiness import wait_for_token
 
         args = ("record", "-o", str(self.path), "--connect", self.endpoint)
         self.proc = self.children.start(f"recorder-{self.path.stem}", *args, ready=True)
@@ -201,7 +201,7 @@ def _run_experiment(
     progress: Callable[[str], None],
     stop: threading.Event,
 ) -> None:
-    from .nodes.planner_node import NodeRun, NodeSettings, PlannerNode
+    from ..nodes.planner_node import NodeRun, NodeSettings, PlannerNode
 
     runs = tuple(NodeRun(case, law) for case in CASES for law in LAWS)
     node_settings = NodeSettings(keys, runs, DEFAULT_OMEGA, settings.lookahead, settings.lookahead_s, label)

@@ -1,12 +1,12 @@
 """What ``axisflow demo`` is to run (:class:`DemoSettings`) and its defaults: the command line offers
-them before it loads the demo itself (:mod:`axisflow.demo`)."""
+them before it loads the demo itself (:mod:`axisflow.demo.loop`)."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
 
-from .acquisition.drives.plant_profiles import DEFAULT_PROFILE
+from ..acquisition.drives.plant_profiles import DEFAULT_PROFILE
 
 DEFAULT_WAYPOINTS = 50
 """way points of Fig. 5 (the paper's 25)"""
