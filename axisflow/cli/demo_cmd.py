@@ -178,7 +178,7 @@ def _adapt(args: argparse.Namespace, out: Path) -> int:
 
 
 def _run_cell(settings: DemoSettings, axes: int) -> int:
-    from ..deploy.cell import run_cell_demo
+    from ..demo.cell_demo import run_cell_demo
     from ..experiment.table2_record import table_markdown
 
     t0 = time.monotonic()
