@@ -7,6 +7,8 @@ import argparse
 import math
 from typing import TYPE_CHECKING
 
+from .acquisition.bus.options import MAX_TCP_PORT
+
 if TYPE_CHECKING:
     from .model import AxisParams
 
@@ -52,9 +54,6 @@ def positive_int(text: str) -> int:
     if value < 1:
         raise argparse.ArgumentTypeError(f"{value} must be >= 1")
     return value
-
-
-MAX_TCP_PORT = 65535
 
 
 def tcp_port(text: str) -> int:

@@ -16,6 +16,8 @@ from ..errors import ZenohConfigError
 DEFAULT_ENDPOINT = "tcp/127.0.0.1:7447"
 LOOPBACK_ANY_PORT = "tcp/127.0.0.1:0"
 MODES = ("peer", "client", "router")
+MAX_TCP_PORT = 65535
+"""the largest TCP port (an endpoint's, a router's, a web viewer's)"""
 CONNECT_WAIT_S = 5.0
 """default of :attr:`ZenohOptions.connect_wait_s` [s]"""
 RECONNECT_RETRY: Mapping[str, int] = MappingProxyType(
@@ -78,9 +80,9 @@ def check_endpoint(endpoint: str, listen: bool = False) -> str:
         raise ZenohConfigError(f"zenoh endpoint {endpoint!r} has no <host>:<port> after {proto}/")
     check_host(host, f"zenoh endpoint {endpoint!r}: host")
     lowest = 0 if listen else 1
-    if not port.isdigit() or not lowest <= int(port) <= 65535:
+    if not port.isdigit() or not lowest <= int(port) <= MAX_TCP_PORT:
         raise ZenohConfigError(
-            f"zenoh endpoint {endpoint!r}: port {port!r} is not in {lowest}…65535"
+            f"zenoh endpoint {endpoint!r}: port {port!r} is not in {lowest}…{MAX_TCP_PORT}"
             + ("" if listen else " (port 0, any free port, is for --listen only)")
         )
     return endpoint

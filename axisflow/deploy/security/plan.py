@@ -6,9 +6,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from ...acquisition.bus.options import check_host
+from ...acquisition.bus.options import MAX_TCP_PORT, check_host
 from ...acquisition.wire.keys import DEFAULT_PREFIX, all_keys
-from ...arguments import MAX_TCP_PORT
 from .errors import SecurityArgumentError
 from .roles import DEFAULT_ROLES, check_roles
 from .validity import DEFAULT_DAYS, check_days
