@@ -3,7 +3,7 @@ belt, friction along the stroke, jittered stamps, 0.1 % of the samples lost, the
 velocity), the acceptance of issue 21: M_eq within 2 %, the Coulomb force at speed a1 + a3·π/2
 within 3 %, a2 within 5 %, the held-out error within 1.2 × the noise floor the report estimates.
 
-The logs are made offline (axisflow.offline_excitation: the simulated axis driven through the bridge's
+The logs are made offline (offline_excitation.py, beside it: the simulated axis driven through the bridge's
 move queue with the excitation's moves, written with the project's MCAP writer; the path through real
 processes is tests/demo): one to fit, one with another noise seed to validate on (the same stretch of
 the stroke; the friction there is what the fit saw).
@@ -20,7 +20,7 @@ from axisflow.identification.refit import IdentifySettings, identify
 from axisflow.identification.report import report_json, report_markdown
 from axisflow.model import default_params
 
-from axisflow.offline_excitation import record_offline_excitation
+from .offline_excitation import record_offline_excitation
 
 pytestmark = pytest.mark.slow  # a module fixture of several seconds: the whole module is in the slow tier
 
