@@ -1,5 +1,5 @@
-"""The layers of the README hold: every import (module level or inside a function) points down, and
-the records-and-logs layer loads no zenoh."""
+"""The layers of the README hold: every import (module level or inside a function) points down, the
+top floor's rooms each have their place, and the records-and-logs layer loads no zenoh."""
 
 import ast
 import subprocess
@@ -10,7 +10,10 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 
-# package folder → its layer; axisflow/*.py are the top-level modules ("top"), axisflow/cli the CLI
+# package folder → its layer. The floors below the top one (model … viz) are the library; the top
+# floor, axisflow/, is rooms of their own, in order: experiment < nodes < deploy < demo, then the
+# benchmarks and the command line. A folder of axisflow/ missing here fails
+# test_every_room_of_the_top_floor_has_its_place.
 FOLDERS = {
     "model": "model",
     "planner": "planner",
@@ -18,14 +21,18 @@ FOLDERS = {
     "identification": "identification",
     "viz": "viz",
     "benchmarks": "benchmarks",
+    "axisflow/experiment": "experiment",
+    "axisflow/nodes": "nodes",
+    "axisflow/deploy": "deploy",
+    "axisflow/demo": "demo",
+    "axisflow/faults": "benchmarks",
     "axisflow/cli": "cli",
-    "axisflow/experiment": "top",
-    "axisflow/deploy": "top",
-    "axisflow/faults": "top",
-    "axisflow/nodes": "top",
-    "axisflow/demo": "top",
-    "axisflow": "top",
+    "axisflow": "loose",
 }
+# the loose modules of axisflow/ (at most six) and their layers
+LOOSE = {"__init__": "package", "__main__": "cli", "arguments": "arguments"}
+MAX_LOOSE = 6
+FLOORS = {"model", "planner", "acquisition", "identification", "viz"}
 # what each layer may import (besides itself); the README's layout table says the same
 ALLOWED = {
     "model": set(),
@@ -33,9 +40,14 @@ ALLOWED = {
     "acquisition": {"model"},
     "identification": {"model", "acquisition"},
     "viz": {"model", "planner", "acquisition", "identification"},
-    "top": {"model", "planner", "acquisition", "identification", "viz"},
-    "benchmarks": {"model", "planner", "acquisition", "identification", "viz", "top"},
-    "cli": {"model", "planner", "acquisition", "identification", "viz", "top", "benchmarks"},
+    "experiment": FLOORS,
+    "nodes": FLOORS | {"experiment"},
+    "deploy": FLOORS | {"experiment", "nodes"},
+    "demo": FLOORS | {"experiment", "nodes", "deploy"},
+    "arguments": FLOORS | {"experiment"},
+    "benchmarks": FLOORS | {"experiment", "nodes", "deploy", "demo", "arguments"},
+    "cli": FLOORS | {"experiment", "nodes", "deploy", "demo", "arguments", "benchmarks", "package"},
+    "package": set(),
 }
 # the sub-package a dotted name under axisflow belongs to
 SUBPACKAGES = {
@@ -45,7 +57,14 @@ SUBPACKAGES = {
     "identification": "identification",
     "viz": "viz",
     "benchmarks": "benchmarks",
+    "experiment": "experiment",
+    "nodes": "nodes",
+    "deploy": "deploy",
+    "demo": "demo",
+    "faults": "benchmarks",
     "cli": "cli",
+    "arguments": "arguments",
+    "__main__": "cli",
 }
 # acquisition's Zenoh side: the only acquisition modules that may use zenoh (folders, or folder/module)
 NETWORK = {"bus", "bridge/bridge", "bridge/move_intake", "logs/recorder", "logs/replay"}
@@ -67,8 +86,8 @@ def _modules() -> list[tuple[Path, str, str]]:
             rel = path.relative_to(base).with_suffix("")
             package = "axisflow" if folder == "axisflow" else f"axisflow.{folder.split('/')[-1]}"
             parts = [p for p in rel.parts if p != "__init__"]
-            # `python -m axisflow` is the command line's entry point
-            out.append((path, ".".join([package, *parts]), "cli" if path.name == "__main__.py" else layer))
+            placed = LOOSE.get(path.stem, "unplaced") if layer == "loose" else layer
+            out.append((path, ".".join([package, *parts]), placed))
     return out
 
 
@@ -76,9 +95,9 @@ def _layer_of(dotted: str) -> str | None:
     parts = dotted.split(".")
     if parts[0] != "axisflow":
         return None
-    if len(parts) == 1:
-        return "top"
-    return SUBPACKAGES.get(parts[1], "top")
+    if len(parts) == 1 or parts[1] == "__version__":
+        return "package"
+    return SUBPACKAGES.get(parts[1], "unplaced")
 
 
 def _imports(path: Path, module: str) -> list[tuple[int, str]]:
@@ -110,9 +129,17 @@ def test_every_import_points_down_the_layers():
             target_layer = _layer_of(target)
             if target_layer is None or target_layer == layer:
                 continue
-            if target_layer not in ALLOWED[layer]:
+            if target_layer not in ALLOWED.get(layer, set()):
                 wrong.append(f"{path.relative_to(ROOT)}:{line} ({layer}) imports {target} ({target_layer})")
     assert not wrong, "\n".join(wrong)
+
+
+def test_every_room_of_the_top_floor_has_its_place():
+    rooms = {p.parent.name for p in (ROOT / "axisflow").glob("*/__init__.py")}
+    assert rooms == {folder.split("/")[1] for folder in FOLDERS if folder.startswith("axisflow/")}
+    loose = sorted(p.stem for p in (ROOT / "axisflow").glob("*.py"))
+    assert len(loose) <= MAX_LOOSE, f"axisflow/ has {len(loose)} loose modules (at most {MAX_LOOSE}): {loose}"
+    assert set(loose) <= set(LOOSE), f"a loose module of axisflow/ without a layer: {set(loose) - set(LOOSE)}"
 
 
 def test_only_the_network_modules_of_acquisition_touch_zenoh():
