@@ -1,7 +1,9 @@
-"""Faults: runs the fault scenarios of :mod:`axisflow.faults` and prints them as one table.
+"""Faults: runs the fault scenarios of :mod:`axisflow.benchmarks.fault_scenarios` and prints them as one
+table.
 
-Each scenario (one module of :mod:`axisflow.faults`) starts real processes, measures what survives a
-fault and returns a result object whose rows this prints; tests/faults asserts on the same objects.
+Each scenario (one module of :mod:`axisflow.benchmarks.fault_scenarios`) starts real processes,
+measures what survives a fault and returns a result object whose rows this prints;
+tests/benchmarks/fault_scenarios asserts on the same objects.
 ``--only NAME`` runs one; ``--json`` prints one JSON object; the exit code is 1 if a contract failed.
 """
 
@@ -20,7 +22,7 @@ from typing import TYPE_CHECKING, Any
 from axisflow.model import AxisflowError
 
 if TYPE_CHECKING:
-    from axisflow.faults.outcome import FaultResult, Outcome
+    from axisflow.benchmarks.fault_scenarios.outcome import FaultResult, Outcome
 
 SCENARIOS: dict[str, Callable[[Path, Any], FaultResult]] = {
     "recorder_kill": lambda work, _args: _scenario("recorder_kill")(work),
@@ -35,9 +37,9 @@ SCENARIOS: dict[str, Callable[[Path, Any], FaultResult]] = {
 
 
 def _scenario(name: str) -> Callable[..., FaultResult]:
-    """The function of scenario ``name``: its module :mod:`axisflow.faults.<name>` (with Zenoh) loads
-    when it runs, not when ``axisflow`` parses its command line."""
-    return getattr(importlib.import_module(f"axisflow.faults.{name}"), name)
+    """The function of scenario ``name``: its module :mod:`axisflow.benchmarks.fault_scenarios.<name>`
+    (with Zenoh) loads when it runs, not when ``axisflow`` parses its command line."""
+    return getattr(importlib.import_module(f"axisflow.benchmarks.fault_scenarios.{name}"), name)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -67,7 +69,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run_scenario(name: str, work: Path, args: argparse.Namespace) -> tuple[list[Outcome], float]:
     """One scenario's rows and its wall time [s]; a scenario that cannot run is one failed row."""
     work.mkdir(parents=True, exist_ok=True)
-    from axisflow.faults.outcome import Outcome
+    from axisflow.benchmarks.fault_scenarios.outcome import Outcome
 
     t0 = time.monotonic()
     try:

@@ -25,7 +25,6 @@ FOLDERS = {
     "axisflow/nodes": "nodes",
     "axisflow/deploy": "deploy",
     "axisflow/demo": "demo",
-    "axisflow/faults": "benchmarks",
     "axisflow/cli": "cli",
     "axisflow": "loose",
 }
@@ -61,7 +60,6 @@ SUBPACKAGES = {
     "nodes": "nodes",
     "deploy": "deploy",
     "demo": "demo",
-    "faults": "benchmarks",
     "cli": "cli",
     "arguments": "arguments",
     "__main__": "cli",

@@ -2,8 +2,7 @@
 Zenoh peers coming and going; the first recording stays complete."""
 
 import pytest
-
-from axisflow.faults.session_faults import JOIN_LOSS_ALLOWANCE, session_faults
+from axisflow.benchmarks.fault_scenarios.session_faults import JOIN_LOSS_ALLOWANCE, session_faults
 
 # a module fixture of several seconds: the whole module is in the slow tier, and bounds the bridge's stalls
 pytestmark = [pytest.mark.slow, pytest.mark.heavy]

@@ -2,8 +2,7 @@
 axis's physical minimum (tests/acquisition/test_quick_stop.py checks it step by step in-process)."""
 
 import pytest
-
-from axisflow.faults.quick_stop import quick_stop
+from axisflow.benchmarks.fault_scenarios.quick_stop import quick_stop
 
 
 @pytest.mark.slow

@@ -12,10 +12,10 @@ from typing import Any
 
 import zenoh
 
-from ..acquisition import AxisKeys, MoveState, MoveStatus, ZenohOptions, is_complete, load_plant
-from ..acquisition.bus.readiness import JoinedSubscriber, say_hello
-from ..deploy.processes import READY_TIMEOUT_S, Child, Exited, Launcher, free_port, wait_until
-from ..model import AxisParams, default_params
+from ...acquisition import AxisKeys, MoveState, MoveStatus, ZenohOptions, is_complete, load_plant
+from ...acquisition.bus.readiness import JoinedSubscriber, say_hello
+from ...deploy.processes import READY_TIMEOUT_S, Child, Exited, Launcher, free_port, wait_until
+from ...model import AxisParams, default_params
 from .ticks import KEYS, SETPOINT_TOPIC, STATE_TOPIC, TickRecord, tick_record
 
 
@@ -227,6 +227,6 @@ def true_axis(nominal: AxisParams | None = None) -> AxisParams:
 
 def fastest_move_s(x0_m: float, x1_m: float, params: AxisParams) -> float:
     """The duration of the minimum-time poly5 move (the planner's exact solver)."""
-    from ..planner import Case, MoveProblem, solve_exact
+    from ...planner import Case, MoveProblem, solve_exact
 
     return solve_exact(MoveProblem(x0_m, x1_m, "poly5", Case.MIN_TIME), params).duration_s

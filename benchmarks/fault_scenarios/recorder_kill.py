@@ -10,8 +10,8 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..acquisition import is_complete, open_session
-from ..deploy.processes import Exited, Launcher
+from ...acquisition import is_complete, open_session
+from ...deploy.processes import Exited, Launcher
 from .outcome import FaultResult, Outcome
 from .rig import STATE_TOPIC, Rig, require_bridge
 from .ticks import TICK_NS, TickRecord, tick_record

@@ -10,8 +10,8 @@ from pathlib import Path
 
 import zenoh
 
-from ..acquisition import ZenohOptions, open_session
-from ..deploy.processes import Exited, Launcher, wait_until
+from ...acquisition import ZenohOptions, open_session
+from ...deploy.processes import Exited, Launcher, wait_until
 from .outcome import FaultResult, Outcome
 from .rig import KEYS, Rig, RunEnd, require_bridge, stop_rig
 from .ticks import Stalls, TickRecord, tick_record

@@ -1,11 +1,12 @@
 """Faults: the data path's processes killed, fuzzed, flooded and starved; what survives, counted.
 
 Every scenario runs real processes — ``axisflow bridge --sim``, ``record``, ``planner``, ``recover``,
-started by axisflow's :class:`~axisflow.deploy.processes.Launcher` on free loopback ports — with real Zenoh
-sessions and real MCAP files, measures what happened, and returns a result object: the numbers, the
-contract it checks (``passed``) and the command that reproduces it (:mod:`.outcome`). tests/faults
-asserts on the same objects; ``axisflow bench faults [--json]`` runs them and prints them as one
-table (docs/trust.md has a measured one). One scenario per module:
+started by axisflow's :class:`~axisflow.deploy.processes.Launcher` on free loopback ports — with real
+Zenoh sessions and real MCAP files, measures what happened, and returns a result object: the numbers,
+the contract it checks (``passed``) and the command that reproduces it (:mod:`.outcome`).
+tests/benchmarks/fault_scenarios asserts on the same objects; ``axisflow bench faults [--json]`` runs
+them and prints them as one table (docs/trust.md has a measured one). A rig of the benchmarks and the
+tests, not a part of the product. One scenario per module:
 
 ===================  ==========================================================================
 scenario             fault → what must hold

@@ -9,8 +9,8 @@ from typing import Any
 
 import numpy as np
 
-from ..acquisition import AxisKeys
-from ..model import AxisParams
+from ...acquisition import AxisKeys
+from ...model import AxisParams
 from .rig import KEYS
 
 _F64 = struct.Struct("<d")

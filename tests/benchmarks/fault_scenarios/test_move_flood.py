@@ -1,8 +1,7 @@
 """Fault 5: thousands of valid moves from one sender, four senders one after another."""
 
 import pytest
-
-from axisflow.faults.move_flood import MAX_FLOOD_RSS_GROWTH_MB, move_flood
+from axisflow.benchmarks.fault_scenarios.move_flood import MAX_FLOOD_RSS_GROWTH_MB, move_flood
 
 
 @pytest.mark.slow

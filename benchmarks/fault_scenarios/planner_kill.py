@@ -9,9 +9,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..acquisition import MoveState, open_session
-from ..deploy.processes import Launcher, wait_until
-from ..model import default_params
+from ...acquisition import MoveState, open_session
+from ...deploy.processes import Launcher, wait_until
+from ...model import default_params
 from .outcome import FaultResult, Outcome
 from .rig import KEYS, Rig, RunEnd, StatusWatch, require_bridge, stop_rig
 

@@ -6,8 +6,7 @@ import sys
 import time
 
 import pytest
-
-from axisflow.faults.rig import RssSampler
+from axisflow.benchmarks.fault_scenarios.rig import RssSampler
 
 
 def test_the_rss_after_a_moment_comes_from_a_sample_taken_after_it():

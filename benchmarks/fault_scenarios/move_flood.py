@@ -8,9 +8,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..acquisition import MoveState, MoveStatus, load_plant, open_session
-from ..deploy.processes import Launcher, wait_until
-from ..model import default_params
+from ...acquisition import MoveState, MoveStatus, load_plant, open_session
+from ...deploy.processes import Launcher, wait_until
+from ...model import default_params
 from .outcome import FaultResult, Outcome
 from .rig import KEYS, Rig, RssSampler, RunEnd, StatusWatch, require_bridge, stop_rig
 from .ticks import Stalls, phase_stalls

@@ -7,10 +7,9 @@ import pytest
 from axisflow.acquisition.bridge.move_queue import validate_move
 from axisflow.acquisition.errors import AcquisitionError
 from axisflow.acquisition.wire.messages import MoveCommand
+from axisflow.benchmarks.fault_scenarios.bad_payloads import bad_payloads
+from axisflow.benchmarks.fault_scenarios.payloads import PayloadCatalog
 from axisflow.model import default_params
-
-from axisflow.faults.bad_payloads import bad_payloads
-from axisflow.faults.payloads import PayloadCatalog
 
 P = default_params()
 
@@ -62,7 +61,7 @@ def test_a_bridge_rejects_every_bad_payload_with_a_reason_and_records_every_tick
     assert r.end.bridge.returncode == 0, r.end.bridge.stderr[-2000:]
     assert r.end.telemetry_intact
     assert abs(report["wall_time_s"] - report["ticks"] / 1000) < 0.25  # it kept 1 kHz: the schedule held
-    # timing, on a shared machine, as a coarse net (tests/faults/test_tick_bounds.py checks the
+    # timing, on a shared machine, as a coarse net (test_tick_bounds.py beside this one checks the
     # per-tick bounds exactly): a quiet run shows a few late ticks and ~5 ms stalls; without the
     # bounds, 1000 rejections in one tick stalled the loop 35–650 ms
     fuzz = r.stalls["fuzz"]

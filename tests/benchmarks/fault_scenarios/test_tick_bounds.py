@@ -14,11 +14,11 @@ from axisflow.acquisition import (
 )
 from axisflow.acquisition.bridge.bridge import MOVES_PER_TICK, STATUSES_PER_TICK, Bridge
 from axisflow.acquisition.bridge.move_intake import MAX_PAYLOAD_BYTES
+from axisflow.benchmarks.fault_scenarios.payloads import RawSender
+from axisflow.benchmarks.fault_scenarios.rig import StatusWatch
 from axisflow.model import default_params
 
 from axisflow.deploy.processes import wait_until
-from axisflow.faults.payloads import RawSender
-from axisflow.faults.rig import StatusWatch
 
 P = default_params()
 KEYS = AxisKeys("a0")

@@ -7,9 +7,9 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..acquisition import MoveState, MoveStatus, load_plant, open_session
-from ..deploy.processes import Launcher
-from ..model import default_params
+from ...acquisition import MoveState, MoveStatus, load_plant, open_session
+from ...deploy.processes import Launcher
+from ...model import default_params
 from .outcome import FaultResult, Outcome
 from .payloads import BadPayload, PayloadCatalog, RawSender
 from .rig import Rig, RssSampler, RunEnd, StatusWatch, require_bridge, stop_rig

@@ -12,9 +12,9 @@ from typing import Any
 
 import numpy as np
 
-from ..acquisition import MoveSender, MoveState, is_complete, load_plant, open_session
-from ..deploy.processes import Exited, Launcher, wait_until
-from ..model import default_params, stop_profile
+from ...acquisition import MoveSender, MoveState, is_complete, load_plant, open_session
+from ...deploy.processes import Exited, Launcher, wait_until
+from ...model import default_params, stop_profile
 from .outcome import FaultResult, Outcome
 from .rig import KEYS, STATE_TOPIC, Rig, fastest_move_s
 from .ticks import TICK_NS, TickRecord, tick_record

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..acquisition import AxisKeys, read_joint_states
-from ..model import EXECUTION_PERIOD_NS
+from ...acquisition import AxisKeys, read_joint_states
+from ...model import EXECUTION_PERIOD_NS
 
 KEYS = AxisKeys()
 """the axis of every scenario"""

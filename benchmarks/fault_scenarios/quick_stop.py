@@ -8,10 +8,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..acquisition import MoveSender, MoveState, open_session
-from ..acquisition.wire.quick_stop import STOP_MOVE_ID
-from ..deploy.processes import Launcher
-from ..model import default_params, stop_profile
+from ...acquisition import MoveSender, MoveState, open_session
+from ...acquisition.wire.quick_stop import STOP_MOVE_ID
+from ...deploy.processes import Launcher
+from ...model import default_params, stop_profile
 from .outcome import FaultResult, Outcome
 from .rig import KEYS, Rig, RunEnd, fastest_move_s, stop_rig, true_axis
 from .ticks import TICK_NS

@@ -1,9 +1,8 @@
 """Faults 1 and 2: the recorder and the bridge SIGKILLed mid-session (real processes and files)."""
 
 import pytest
-
-from axisflow.faults.bridge_kill import bridge_kill
-from axisflow.faults.recorder_kill import MAX_CRASH_LOSS_S, recorder_kill
+from axisflow.benchmarks.fault_scenarios.bridge_kill import bridge_kill
+from axisflow.benchmarks.fault_scenarios.recorder_kill import MAX_CRASH_LOSS_S, recorder_kill
 
 
 @pytest.mark.slow
