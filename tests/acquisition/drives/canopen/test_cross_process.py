@@ -11,7 +11,6 @@ be made (not root, no unshare) it is skipped with the reason.
 from __future__ import annotations
 
 import os
-import shutil
 import signal
 import subprocess
 import sys
@@ -19,8 +18,8 @@ from pathlib import Path
 
 import pytest
 
-INSIDE = "AXISFLOW_IN_PRIVATE_NETNS"
-NETNS_SETUP = "ip link set lo up && ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo"
+from axisflow.deploy import private_network
+
 CONFIG = """[can]
 interface = "udp_multicast"
 channel = "239.74.163.2"
@@ -38,30 +37,28 @@ heartbeat_timeout_ms = 2000
 
 @pytest.mark.slow
 def test_drive_sim_and_bridge_as_processes_in_a_private_network_namespace(tmp_path):
-    if os.environ.get(INSIDE):
+    if private_network.inside():
         pytest.skip("this is the namespace's own run")
-    if shutil.which("unshare") is None or shutil.which("ip") is None:
-        pytest.skip("unshare or ip (util-linux, iproute2) is not installed: no private network namespace")
-    probe = subprocess.run(["unshare", "-n", "sh", "-c", NETNS_SETUP], capture_output=True, text=True)
-    if probe.returncode != 0:
-        pytest.skip(f"no private network namespace here ({probe.stderr.strip() or 'unshare -n failed'})")
+    why_not = private_network.unavailable()
+    if why_not is not None:
+        pytest.skip(f"no private network namespace here ({why_not})")
     inner = f"{Path(__file__)}::test_inside_the_namespace"
-    command = f'{NETNS_SETUP} && exec "{sys.executable}" -m pytest -q -p no:cacheprovider -x "{inner}"'
-    env = {**os.environ, INSIDE: "1", "CI": "1", "RUST_LOG": "error"}
-    run = subprocess.run(["unshare", "-n", "sh", "-c", command], capture_output=True, text=True, env=env,
-                         timeout=300, cwd=tmp_path)  # fmt: skip
+    command = private_network.command(
+        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-x", inner]
+    )
+    env = {**os.environ, private_network.INSIDE_ENV: "1", "CI": "1", "RUST_LOG": "error"}
+    run = subprocess.run(command, capture_output=True, text=True, env=env, timeout=300, cwd=tmp_path)
     assert run.returncode == 0 and "1 passed" in run.stdout, run.stdout[-4000:] + run.stderr[-2000:]
 
 
-@pytest.mark.skipif(not os.environ.get(INSIDE), reason="runs inside the namespace the test above makes")
+@pytest.mark.skipif(not private_network.inside(), reason="runs inside the namespace the test above makes")
 def test_inside_the_namespace(tmp_path, cli, port):
     import zenoh
     from axisflow.acquisition import AxisKeys, MoveSender, MoveState, MoveStatus
     from axisflow.acquisition.bus.axis_state import AxisState
     from axisflow.acquisition.bus.session import ZenohOptions, open_session
 
-    links = subprocess.run(["ip", "-o", "link"], capture_output=True, text=True, check=True).stdout
-    assert [line.split(":")[1].strip() for line in links.splitlines()] == ["lo"]  # nowhere else to go
+    assert private_network.interfaces() == ["lo"]  # nowhere else to go
     config = tmp_path / "drive.toml"
     config.write_text(CONFIG)
     drive = cli.start("drive-sim", "--drive-config", str(config), "--fault-at", "4:4310")
