@@ -9,7 +9,7 @@ The folders follow the data path, from the drive to the disk:
 * :mod:`.bus` — Zenoh sessions, the numbered publisher, the move sender, the latest sample of an axis;
 * :mod:`.logs` — the MCAP writer, the log readers, recover, and the recorder and replay.
 
-Only :mod:`.bus`, :mod:`.bridge` (its loop and intake), the recorder and replay load Zenoh;
+Only :mod:`.bus`, :mod:`.bridge` (its loop, intake and admission), the recorder and replay load Zenoh;
 identification and the views use the rest, and reading a log never loads Zenoh (tests/test_layers.py).
 Names of the Zenoh modules are importable from this package too. Every name is loaded with its module
 on first use, so ``from axisflow.acquisition import AxisSample`` loads no Zenoh, and importing one module
@@ -24,8 +24,10 @@ from typing import TYPE_CHECKING
 from ..model import lazy_names
 
 if TYPE_CHECKING:  # what a type checker sees; at run time __getattr__ loads each name from _HOMES
-    from .bridge.bridge import Bridge, BridgeConfig, BridgeReport, run_bridge  # noqa: F401
+    from .bridge.bridge import Bridge, run_bridge  # noqa: F401
+    from .bridge.config import BridgeConfig  # noqa: F401
     from .bridge.move_queue import MoveQueue  # noqa: F401
+    from .bridge.report import BridgeReport  # noqa: F401
     from .bus.axis_state import AxisState  # noqa: F401
     from .bus.move_sender import MoveSender  # noqa: F401
     from .bus.options import ZenohOptions  # noqa: F401
@@ -129,8 +131,8 @@ _HOMES: dict[str, str] = {
     "PlanRecord": "wire.plan_record",
     "AxisState": "bus.axis_state",
     "Bridge": "bridge.bridge",
-    "BridgeConfig": "bridge.bridge",
-    "BridgeReport": "bridge.bridge",
+    "BridgeConfig": "bridge.config",
+    "BridgeReport": "bridge.report",
     "run_bridge": "bridge.bridge",
     "MoveSender": "bus.move_sender",
     "Recorder": "logs.recorder",

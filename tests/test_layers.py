@@ -65,7 +65,7 @@ SUBPACKAGES = {
     "__main__": "cli",
 }
 # acquisition's Zenoh side: the only acquisition modules that may use zenoh (folders, or folder/module)
-NETWORK = {"bus", "bridge/bridge", "bridge/move_intake", "logs/recorder", "logs/replay"}
+NETWORK = {"bus", "bridge/bridge", "bridge/admission", "bridge/move_intake", "logs/recorder", "logs/replay"}
 
 
 def _is_network(module: str) -> bool:

@@ -21,7 +21,8 @@ from ..model import EXECUTION_PERIOD_NS, AxisflowError
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 if TYPE_CHECKING:
-    from ..acquisition.bridge.bridge import BridgeConfig, BridgeReport
+    from ..acquisition.bridge.config import BridgeConfig
+    from ..acquisition.bridge.report import BridgeReport
     from ..acquisition.drives.canopen.config import DriveConfig
     from ..acquisition.drives.canopen.cycle import CycleReport
     from ..acquisition.drives.plant import PlantConfig
@@ -147,7 +148,7 @@ def _plant(args: argparse.Namespace, params: AxisParams) -> PlantConfig:
 
 
 def _bridge_config(args: argparse.Namespace, axis: str, drive: DriveInfo) -> BridgeConfig:
-    from ..acquisition.bridge.bridge import BridgeConfig
+    from ..acquisition.bridge.config import BridgeConfig
 
     return BridgeConfig(
         keys=AxisKeys(axis, args.prefix),

@@ -12,7 +12,8 @@ from axisflow.acquisition import (
     load_plant,
     open_session,
 )
-from axisflow.acquisition.bridge.bridge import MOVES_PER_TICK, STATUSES_PER_TICK, Bridge
+from axisflow.acquisition.bridge.admission import MOVES_PER_TICK
+from axisflow.acquisition.bridge.bridge import STATUSES_PER_TICK, Bridge
 from axisflow.acquisition.bridge.move_intake import MAX_PAYLOAD_BYTES
 from axisflow.benchmarks.fault_scenarios.payloads import RawSender
 from axisflow.benchmarks.fault_scenarios.rig import StatusWatch
