@@ -12,7 +12,9 @@ One concept per module, from the wire up:
 * :mod:`.adapter` — :class:`CanopenDrive`, the :class:`~axisflow.acquisition.drives.drive.Drive` of one
   drive; :mod:`.clock` and :mod:`.cycle` — the bus's drive time and the cycle owner (one SYNC for every
   drive, wall or lock-step pacing); :mod:`.master` — all of it opened from a configuration;
-* :mod:`.sim_drive` — :class:`SimulatedDrive`, a CiA 402 drive around the simulated axis's plant.
+* :mod:`.sim_slave` — a simulated CiA 301 slave (SDO, NMT, heartbeat, SYNC, PDOs) for a device
+  profile; :mod:`.sim_drive` — :class:`SimulatedDrive`, the CiA 402 profile on it, a drive around the
+  simulated axis's plant.
 
 No Zenoh here (tests/test_layers.py); docs/drives.md tells how to connect a real drive.
 """

@@ -2,11 +2,8 @@
 
 What a real drive does, on its own canopen network (its own python-can bus):
 
-* **CiA 301**: an SDO server, NMT (boot-up, pre-operational, operational), a heartbeat producer
-  (0x1017), emergency messages — canopen's ``LocalNode``; SYNC handling and PDOs are this module's:
-  the RPDOs and TPDOs are decoded and encoded per whatever mapping the master wrote into
-  0x1400…/0x1600…/0x1800…/0x1A00… (mapping changes are refused in OPERATIONAL, for objects that
-  cannot be mapped, beyond 64 bits, or while the PDO is valid, with the standard abort codes);
+* **CiA 301**: an SDO server, NMT, a heartbeat producer, emergency messages, SYNC and PDOs — the slave
+  of :mod:`.sim_slave`, which this drive is the device profile of;
 * **CiA 402**: the drive-side state machine (:func:`~.cia402.drive_transition`), cyclic synchronous
   position mode (0x6060 = 8, the only mode offered), the quick stop with its option code 0x605A
   (a ramp of 0x6085, or the torque limit, then switch on disabled or — 5…8 — holding in quick stop
@@ -35,7 +32,6 @@ from __future__ import annotations
 
 import logging
 import math
-import struct
 from dataclasses import dataclass
 
 import canopen
@@ -59,7 +55,6 @@ from .cia402 import (
 )
 from .config import CanSettings, DriveSettings
 from .emergency import DEFAULT_FAULT_CODE, error_register_for
-from .network import CanopenNetwork
 from .objects import (
     COMM_CYCLE_PERIOD,
     CONTROLWORD,
@@ -78,7 +73,6 @@ from .objects import (
     MODES_DISPLAY,
     MODES_OF_OPERATION,
     OPTIONAL,
-    PDO_VALID_BIT,
     POSITION_ACTUAL,
     PRODUCT_CODE,
     PROFILE_402,
@@ -92,17 +86,16 @@ from .objects import (
     STATUSWORD,
     SUPPORTED_CSP_BIT,
     SUPPORTED_MODES,
-    SYNC_COB_ID,
     TARGET_POSITION,
     TORQUE_ACTUAL,
     TORQUE_OFFSET,
     VELOCITY_ACTUAL,
     VELOCITY_OFFSET,
     VENDOR_ID,
-    Direction,
     Entry,
     drive_dictionary,
 )
+from .sim_slave import ABORT_RANGE, ABORT_READ_ONLY, SimulatedSlave
 
 log = logging.getLogger(__name__)
 
@@ -113,13 +106,6 @@ RATED_TORQUE_SHARE = 1.0 / 3.0
 """the simulated motor's rated torque as a share of the plant's torque limit (servo motors give
 about three times their rated torque for a while)"""
 FAULT_REACTION_DEFAULT = 2
-_PDO_CONFIG = range(0x1400, 0x1C00)
-_ABORT_RANGE = 0x06090030
-_ABORT_UNSUPPORTED = 0x06010000
-_ABORT_NOT_MAPPABLE = 0x06040041
-_ABORT_PDO_LENGTH = 0x06040042
-_ABORT_LOCAL_CONTROL = 0x08000022
-_ABORT_READ_ONLY = 0x06010002
 _LIVE = (CONTROLWORD, STATUSWORD, TARGET_POSITION, VELOCITY_OFFSET, TORQUE_OFFSET, POSITION_ACTUAL,
          VELOCITY_ACTUAL, TORQUE_ACTUAL, MODES_OF_OPERATION, MODES_DISPLAY, ERROR_CODE,
          ERROR_REGISTER)  # fmt: skip
@@ -137,30 +123,6 @@ class FaultPlan:
     """stop transmitting anything at this drive time"""
     silent_for_s: float | None = None
     """for this long (None: for good)"""
-
-
-class _DriveNetwork(canopen.Network):
-    """The drive's network; its transmitter can be cut (a silent drive) — ``send_message`` is the
-    documented point to override, and the heartbeat task is stopped alongside."""
-
-    silent = False
-    NOTIFIER_CYCLE = 0.1
-    """the longest the receive thread waits for a frame before it looks whether it is stopped [s]: a
-    drive whose master is gone (no SYNC, no SDO) closes within it, not within canopen's 1 s"""
-
-    def send_message(self, can_id: int, data: bytes, remote: bool = False) -> None:
-        if not self.silent:
-            super().send_message(can_id, data, remote)
-
-
-@dataclass(frozen=True)
-class _Map:
-    """One valid PDO as the master mapped it."""
-
-    cob_id: int
-    transmission: int
-    entries: tuple[Entry, ...]
-    struct: struct.Struct
 
 
 class _Ramp:
@@ -187,7 +149,8 @@ class _Ramp:
 
 class SimulatedDrive:
     """A CiA 402 drive for ``settings`` (its node id, encoder, zero and polarity) on the bus ``can``,
-    running ``plant`` (a context manager: entering boots it; see the module docstring)."""
+    running ``plant`` (a context manager: entering boots it; see the module docstring). It is the device
+    profile of its CiA 301 slave (:class:`~.sim_slave.SimulatedSlave`)."""
 
     def __init__(
         self,
@@ -209,26 +172,19 @@ class SimulatedDrive:
             settings.direction,
         )  # fmt: skip
         self.dictionary = self._dictionary()
-        self._entries = {(e.index, e.subindex): e for e in (*MANDATORY, *OPTIONAL)}
-        self._image: dict[Entry, int] = {e: 0 for e in _LIVE}
+        self.slave = SimulatedSlave(
+            can, settings.node_id, self.dictionary, (*MANDATORY, *OPTIONAL), _LIVE, self
+        )
+        self._image = self.slave.image
         self._image[STATUSWORD] = STATE_BITS[State.SWITCH_ON_DISABLED] | SW_QUICK_STOP | SW_REMOTE
-        self._settings_values: dict[Entry, int] = {}
         self.state = State.SWITCH_ON_DISABLED
         self._previous_controlword = 0
-        self._latched: dict[Entry, int] = {}
-        self._rx: dict[int, _Map] = {}
-        self._tx: list[_Map] = []
-        self._maps_stale = True
-        self._syncs = 0
         self.ticks = 0
         """plant ticks run in OPERATIONAL (the drive time, 1 ms each)"""
         self._ramp: _Ramp | None = None
         self._lag_ms = 0
         self._fault_raised = False
         self._silent_until_s: float | None = None
-        self._heartbeat_ms = 0
-        self._network: CanopenNetwork | None = None
-        self.node: canopen.LocalNode | None = None
         self._measured = self.axis.read()
 
     # ---- set-up ----------------------------------------------------------------------------------------
@@ -255,174 +211,63 @@ class SimulatedDrive:
 
     def start(self) -> None:
         """Boot: connect, boot-up message, pre-operational (a fault planned at 0 s is raised first)."""
-        network = _DriveNetwork()
-        self._network = CanopenNetwork(self.can, network)
-        node = canopen.LocalNode(self.settings.node_id, self.dictionary)
-        network.add_node(node)
-        self.node = node
-        node.add_read_callback(self._on_read)
-        node.add_write_callback(self._on_write)
-        network.subscribe(SYNC_COB_ID, self._on_sync)
-        node.nmt.send_command(0x81)  # reset node: boot-up message
-        node.nmt.send_command(0x80)  # enter pre-operational (heartbeat per 0x1017)
+        self.slave.start()
         if self.faults.fault_at_s == 0.0:
             self._raise_fault(self.faults.fault_code)
 
     def close(self) -> None:
-        if self.node is not None:
-            self.node.nmt.stop_heartbeat()
-        if self._network is not None:
-            self._network.close()
-            self._network = None
+        self.slave.close()
         self.axis.close()
 
     @property
+    def node(self) -> canopen.LocalNode | None:
+        """The slave's canopen node (None before :meth:`start`)."""
+        return self.slave.node
+
+    @property
     def operational(self) -> bool:
-        return self.node is not None and self.node.nmt.state == "OPERATIONAL"
+        return self.slave.operational
 
-    # ---- SDO access (the network's thread) ------------------------------------------------------------
-    def _on_read(self, index: int, subindex: int, od: object) -> int | None:
-        entry = self._entries.get((index, subindex))
-        return self._image.get(entry) if entry is not None else None
+    def _setting(self, entry: Entry) -> int:
+        return self.slave.setting(entry)
 
-    def _on_write(self, index: int, subindex: int, od: object, data: bytes) -> None:
-        if index in _PDO_CONFIG:
-            self._check_pdo_write(index, subindex, data)
-            self._maps_stale = True
-            return
-        entry = self._entries.get((index, subindex))
-        if entry is None:
-            return
-        value = entry.unpack(data)
+    # ---- the slave's device profile (its network's thread) -------------------------------------------
+    def check_write(self, entry: Entry, value: int) -> None:
+        """An SDO write to a 402 object: only cyclic synchronous position, option codes in range, the
+        rated torque read-only."""
         if entry is MODES_OF_OPERATION:
             if value != MODE_CSP:
-                raise SdoAbortedError(_ABORT_RANGE)  # only cyclic synchronous position is offered
+                raise SdoAbortedError(ABORT_RANGE)  # only cyclic synchronous position is offered
             self._image[MODES_DISPLAY] = value
         elif entry in (QUICK_STOP_OPTION, FAULT_REACTION):
             if not 0 <= value <= (8 if entry is QUICK_STOP_OPTION else 4):
-                raise SdoAbortedError(_ABORT_RANGE)
-        elif entry is HEARTBEAT_TIME:
-            self._heartbeat_ms = value  # (NMT starts the producer itself on this write)
-        elif entry in (RATED_TORQUE, DEVICE_TYPE):
-            raise SdoAbortedError(_ABORT_READ_ONLY)
-        if entry in self._image:
-            self._image[entry] = value
-            if entry is CONTROLWORD:
-                self._state_machine()
-        else:
-            self._settings_values[entry] = value
+                raise SdoAbortedError(ABORT_RANGE)
+        elif entry is RATED_TORQUE:
+            raise SdoAbortedError(ABORT_READ_ONLY)
 
-    def _setting(self, entry: Entry) -> int:
-        value = self._settings_values.get(entry)
-        if value is None:
-            value = self._settings_values[entry] = int(
-                self.dictionary.get_variable(entry.index, entry.subindex).default
-            )
-        return value
-
-    # ---- PDO configuration -----------------------------------------------------------------------------
-    def _stored(self, index: int, subindex: int) -> int:
-        var = self.dictionary.get_variable(index, subindex)
-        assert self.node is not None and var is not None
-        raw = self.node.data_store.get(index, {}).get(subindex)
-        return int(var.decode_raw(raw)) if raw is not None else int(var.default)
-
-    def _check_pdo_write(self, index: int, subindex: int, data: bytes) -> None:
-        if self.operational:
-            raise SdoAbortedError(_ABORT_LOCAL_CONTROL)  # PDOs are mapped in pre-operational
-        is_mapping = 0x1600 <= index < 0x1800 or 0x1A00 <= index < 0x1C00
-        if not is_mapping:
-            return
-        communication = index - 0x200
-        valid = not self._stored(communication, 1) & PDO_VALID_BIT
-        value = int.from_bytes(data, "little")
-        if subindex == 0:
-            bits = sum(self._stored(index, sub) & 0xFF for sub in range(1, value + 1))
-            if value > 8 or bits > 64:
-                raise SdoAbortedError(_ABORT_PDO_LENGTH)
-            return
-        if valid or self._stored(index, 0) != 0:
-            raise SdoAbortedError(_ABORT_UNSUPPORTED)  # CiA 301: disable the PDO and clear sub 0 first
-        entry = self._entries.get((value >> 16, (value >> 8) & 0xFF))
-        if entry is None or not entry.pdo_mappable or entry.type.bits != value & 0xFF:
-            raise SdoAbortedError(_ABORT_NOT_MAPPABLE)
-        receive = index < 0x1800
-        if receive and entry.access.value == "ro":
-            raise SdoAbortedError(_ABORT_NOT_MAPPABLE)
-
-    def _rebuild_maps(self) -> None:
-        assert self._network is not None
-        network = self._network.network
-        for cob_id in self._rx:
-            network.unsubscribe(cob_id, self._on_rpdo)
-        self._rx, self._tx = {}, []
-        for direction in Direction:
-            for number in range(1, 5):
-                com = (0x1400 if direction is Direction.RX else 0x1800) + number - 1
-                mapping = com + 0x200
-                cob = self._stored(com, 1)
-                if cob & PDO_VALID_BIT:
-                    continue
-                count = self._stored(mapping, 0)
-                entries = []
-                for sub in range(1, count + 1):
-                    value = self._stored(mapping, sub)
-                    entries.append(self._entries[(value >> 16, (value >> 8) & 0xFF)])
-                fmt = "<" + "".join(e.type.fmt for e in entries)
-                pdo = _Map(cob & 0x7FF, self._stored(com, 2), tuple(entries), struct.Struct(fmt))
-                if direction is Direction.RX:
-                    self._rx[pdo.cob_id] = pdo
-                    network.subscribe(pdo.cob_id, self._on_rpdo)
-                else:
-                    self._tx.append(pdo)
-        self._maps_stale = False
-
-    # ---- process data ----------------------------------------------------------------------------------
-    def _on_rpdo(self, cob_id: int, data: bytearray, _stamp: float) -> None:
-        pdo = self._rx.get(cob_id)
-        if pdo is None or not self.operational or len(data) < pdo.struct.size:
-            return
-        values = pdo.struct.unpack_from(bytes(data))
-        synchronous = pdo.transmission <= 240
-        for entry, value in zip(pdo.entries, values, strict=True):
-            if synchronous:
-                self._latched[entry] = value
-            else:
-                self._image[entry] = value
-        if not synchronous and CONTROLWORD in pdo.entries:
+    def written(self, entries: tuple[Entry, ...]) -> None:
+        """A new controlword runs the state machine."""
+        if CONTROLWORD in entries:
             self._state_machine()
 
-    def _on_sync(self, _cob: int, _data: bytearray, _stamp: float) -> None:
-        if not self.operational:
-            return
-        if self._maps_stale:
-            self._rebuild_maps()
-        self._syncs += 1
-        self._sample()
-        self._planned_faults()
-        self._following_error()
-        self._image.update(self._latched)
-        self._latched.clear()
-        self._state_machine()
-        self._transmit()
-        for _ in range(self.ticks_per_sync):
-            self._tick()
-
-    def _sample(self) -> None:
+    def sample(self) -> None:
+        """Per SYNC, before its RPDOs apply: the actual values, planned faults, the following error."""
         sample = self.axis.read()
         u = self.units
         self._image[POSITION_ACTUAL] = u.counts(sample.position_m)
         self._image[VELOCITY_ACTUAL] = u.counts_per_s(sample.velocity_m_s)
         self._image[TORQUE_ACTUAL] = u.per_mille(sample.motor_torque_nm)
         self._measured = sample
+        self._planned_faults()
+        self._following_error()
 
-    def _transmit(self) -> None:
-        assert self._network is not None
-        send = self._network.network.send_message
-        for pdo in self._tx:
-            if pdo.transmission == 0 or pdo.transmission > 240 or self._syncs % pdo.transmission:
-                continue
-            send(pdo.cob_id, pdo.struct.pack(*(self._image[e] for e in pdo.entries)))
+    def latched(self) -> None:
+        self._state_machine()
+
+    def cycle(self) -> None:
+        """The position loop until the next SYNC: one 1 ms plant tick per bridge tick."""
+        for _ in range(self.ticks_per_sync):
+            self._tick()
 
     # ---- the 402 state machine -------------------------------------------------------------------------
     def _state_machine(self) -> None:
@@ -512,17 +357,7 @@ class SimulatedDrive:
             self._set_silent(False)
 
     def _set_silent(self, silent: bool) -> None:
-        assert self._network is not None and self.node is not None
-        network = self._network.network
-        assert isinstance(network, _DriveNetwork)
-        network.silent = silent
-        if silent:
-            self.node.nmt.stop_heartbeat()
-        elif self._heartbeat_ms:
-            self.node.nmt.start_heartbeat(self._heartbeat_ms)
-        log.warning(
-            "simulated drive node %d %s", self.settings.node_id, "falls silent" if silent else "speaks again"
-        )
+        self.slave.set_silent(silent)
 
     def _following_error(self) -> None:
         if self.state is not State.OPERATION_ENABLED:
