@@ -102,7 +102,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ..demo.loop import run_demo
-    from ..experiment.table2_record import table_markdown
+    from ..experiment.table2_markdown import table_markdown
     from ..model.files import check_output_dir
 
     out = Path(args.out) if args.out else Path("logs") / time.strftime("demo-%Y%m%d-%H%M%S")
@@ -179,7 +179,7 @@ def _adapt(args: argparse.Namespace, out: Path) -> int:
 
 def _run_cell(settings: DemoSettings, axes: int) -> int:
     from ..demo.cell_demo import run_cell_demo
-    from ..experiment.table2_record import table_markdown
+    from ..experiment.table2_markdown import table_markdown
 
     t0 = time.monotonic()
 

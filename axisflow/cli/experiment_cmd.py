@@ -49,7 +49,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ..experiment.offline import run_offline
-    from ..experiment.table2_record import table_markdown, write_table2
+    from ..experiment.table2_markdown import table_markdown, write_table2
     from ..model.files import check_output_dir
 
     params = params_from_args(args)

@@ -46,7 +46,7 @@ def run(args: argparse.Namespace) -> int:
     from ..acquisition.logs.recorded_axes import choose_axis
     from ..experiment.per_move import write_move_energies
     from ..experiment.table2 import move_energies, recorded_runs, table_of_runs
-    from ..experiment.table2_record import write_table2
+    from ..experiment.table2_markdown import write_table2
     from ..model.files import check_output_files
 
     recording = check_mcap(args.recording)

@@ -19,7 +19,8 @@ from ..acquisition.wire.keys import AxisKeys, topic_for_key
 from ..deploy.cell import Cell, CellError, CellLayout
 from ..deploy.processes import last_line
 from ..experiment.table2 import table_from_recording
-from ..experiment.table2_record import Table2, write_table2
+from ..experiment.table2_markdown import write_table2
+from ..experiment.table2_record import Table2
 from ..model import load_params
 from ..model.files import write_atomic
 from .settings import DemoSettings

@@ -44,7 +44,8 @@ from ..deploy.processes import READY_TIMEOUT_S, Child, Launcher, free_port
 from ..experiment.offline import CASES
 from ..experiment.paper import FIG5_WAYPOINTS, LAWS
 from ..experiment.table2 import table_from_recording
-from ..experiment.table2_record import Table2, write_table2
+from ..experiment.table2_markdown import write_table2
+from ..experiment.table2_record import Table2
 from ..experiment.waypoints import random_waypoints
 from ..model import AxisflowError, AxisParams, load_params
 from ..model.files import write_atomic

@@ -20,7 +20,8 @@ from axisflow.planner import Case
 
 from axisflow.experiment.per_move import read_move_energies
 from axisflow.experiment.table2 import move_energies, recorded_runs, table_from_recording
-from axisflow.experiment.table2_record import Table2, table_markdown
+from axisflow.experiment.table2_markdown import table_markdown
+from axisflow.experiment.table2_record import Table2
 
 T0 = 1_700_000_000_000_000_000
 MS = EXECUTION_PERIOD_NS

@@ -12,6 +12,7 @@ from axisflow.model import EnergyAccounting, default_params
 from axisflow.planner import DEFAULT_OMEGA, Case
 
 from axisflow.experiment.paper import PAPER_TABLE2, PAPER_WAYPOINTS
+from axisflow.experiment.table2_markdown import table_markdown, write_table2
 from axisflow.experiment.table2_record import (
     LimitColumns,
     MeasuredColumns,
@@ -20,8 +21,6 @@ from axisflow.experiment.table2_record import (
     Table2Error,
     Table2Row,
     read_table2,
-    table_markdown,
-    write_table2,
 )
 
 
