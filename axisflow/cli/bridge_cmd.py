@@ -3,33 +3,25 @@
 from __future__ import annotations
 
 import argparse
-import gc
 import json
 import os
 import sys
-import threading
-from contextlib import ExitStack
 from typing import TYPE_CHECKING
 
 from ..acquisition.bridge.continuity import DEFAULT_JUMP_TOLERANCE_M
 from ..acquisition.bus.options import DEFAULT_ENDPOINT, ZenohOptions
 from ..acquisition.drives.plant_profiles import DEFAULT_PROFILE, PROFILE_RESOURCES
-from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
+from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX
 from ..arguments import add_params_option, finite_float, params_from_args
 from ..deploy.processes import notify_ready, stop_on_signals
 from ..model import EXECUTION_PERIOD_NS, AxisflowError
+from ..nodes.bridge_stack import DRIVES
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 if TYPE_CHECKING:
     from ..acquisition.bridge.config import BridgeConfig
     from ..acquisition.bridge.report import BridgeReport
-    from ..acquisition.drives.canopen.config import DriveConfig
     from ..acquisition.drives.canopen.cycle import CycleReport
-    from ..acquisition.drives.plant import PlantConfig
-    from ..acquisition.wire.drive_info import DriveInfo
-    from ..model import AxisParams
-
-DRIVES = ("sim", "canopen", "canopen-sim")
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -138,116 +130,34 @@ def _drive_kind(args: argparse.Namespace) -> str:
     return kind
 
 
-def _plant(args: argparse.Namespace, params: AxisParams) -> PlantConfig:
-    """The plant of the simulated axis or simulated drives: --plant-profile, --plant or the default."""
-    from ..acquisition.drives.plant import load_plant, load_profile
+def run(args: argparse.Namespace) -> int:
+    from ..nodes.bridge_stack import BridgeStackSettings, StackHooks, run_bridge_stack
 
-    if args.plant_profile is not None:
-        return load_profile(args.plant_profile, params)
-    return load_plant(args.plant, params)
-
-
-def _bridge_config(args: argparse.Namespace, axis: str, drive: DriveInfo) -> BridgeConfig:
-    from ..acquisition.bridge.config import BridgeConfig
-
-    return BridgeConfig(
-        keys=AxisKeys(axis, args.prefix),
+    params = params_from_args(args)
+    settings = BridgeStackSettings(
+        drive=_drive_kind(args),
+        drive_config=args.drive_config,
+        reset_fault=args.reset_fault,
+        axis=args.axis,
+        prefix=args.prefix,
+        plant=args.plant,
+        plant_profile=args.plant_profile,
+        plant_state=args.plant_state,
         speed=args.speed,
         duration_s=args.duration,
         wait_subscribers_s=args.wait_subscribers,
         jump_tolerance_m=args.jump_tolerance,
-        drive=drive,
     )
-
-
-def run(args: argparse.Namespace) -> int:
-    # Zenoh, python-can and canopen load here, once a bridge is to run (not for --help)
-    from ..acquisition.drives.canopen.config import Pacing, load_drive_config
-
-    params = params_from_args(args)
-    kind = _drive_kind(args)
     options = zenoh_options_from_args(args)
-    if kind == "sim":
-        return _run_simulated_axis(args, params, options)
-    drives = load_drive_config(args.drive_config).with_axis(args.axis)
-    if drives.pacing is Pacing.WALL and args.speed != 1.0:
-        raise AxisflowError(
-            f"pacing = wall runs the drives in real time: --speed must be 1, not {args.speed:g} "
-            "(lock-step pacing, for simulated drives, runs at any speed)"
-        )
-    plant = _plant(args, params) if kind == "canopen-sim" else None
+
+    def started(config: BridgeConfig) -> None:
+        if not args.json:
+            print(startup_line(config, options), file=sys.stderr, flush=True)
+
+    hooks = StackHooks(started, notify_ready, lambda reports, bus: _print_reports(args, reports, bus))
     with stop_on_signals() as stop:
-        reports, bus = _run_canopen(args, params, drives, plant, options, stop)
-    _print_reports(args, reports, bus)
+        run_bridge_stack(settings, params, options, stop, hooks)
     return 0
-
-
-def _run_simulated_axis(args: argparse.Namespace, params: AxisParams, options: ZenohOptions) -> int:
-    from ..acquisition.bridge.bridge import Bridge
-    from ..acquisition.bus.session import open_session
-    from ..acquisition.drives.sim_axis import SimulatedAxis
-    from ..acquisition.wire.drive_info import SIMULATED, DriveInfo
-
-    plant = _plant(args, params)
-    config = _bridge_config(args, args.axis, DriveInfo(0, args.axis, SIMULATED, plant.profile, plant.source))
-    # its clock starts at the first sample
-    drive = SimulatedAxis(plant, params, axis=args.axis, state_path=args.plant_state)
-    with stop_on_signals() as stop, open_session(options) as session:
-        try:
-            with Bridge(session, drive, params, config) as bridge:
-                if not args.json:
-                    print(startup_line(config, options), file=sys.stderr, flush=True)
-                notify_ready()
-                # what is allocated by now lives as long as the process: out of the collector's way,
-                # so a full collection on the 1 kHz loop costs ~0 ms instead of 40–55 ms (measured)
-                gc.freeze()
-                bridge.run(stop)
-        finally:
-            drive.close()
-        report = bridge.report
-        # the report is out before the session closes (a close that hangs must not take it along)
-        _print_reports(args, {args.axis: report})
-    return 0
-
-
-def _run_canopen(
-    args: argparse.Namespace,
-    params: AxisParams,
-    drives: DriveConfig,
-    plant: PlantConfig | None,
-    options: ZenohOptions,
-    stop: threading.Event,
-) -> tuple[dict[str, BridgeReport], CycleReport]:
-    """Start the drives (with a ``plant``: simulated ones hosted here first, for canopen-sim), then one
-    bridge per drive in one loop with one SYNC per tick; on the way out the bridges close, then the
-    drives are stopped."""
-    from ..acquisition.bridge.bridge import Bridge, run_bridges
-    from ..acquisition.bus.session import open_session
-    from ..acquisition.drives.canopen.master import open_master
-    from ..acquisition.drives.canopen.sim_drive import SimulatedDrive
-    from ..acquisition.wire.drive_info import DriveInfo
-
-    with ExitStack() as stack:
-        if plant is not None:
-            for settings in drives.drives:
-                stack.enter_context(SimulatedDrive(drives.can, settings, drives.cycle_hz, plant, params))
-        session = stack.enter_context(open_session(options))
-        master = stack.enter_context(open_master(drives, params, args.reset_fault))
-        with master.cycle.idle():  # a real drive watches the SYNC from the moment it is enabled
-            bridges = []
-            for drive, settings, info in zip(master.drives, drives.drives, master.infos, strict=True):
-                what = DriveInfo(0, settings.axis or args.axis, info.describe())
-                if plant is not None:  # a simulated drive: say which plant it simulates
-                    what = DriveInfo(0, what.axis, f"simulated {what.drive}", plant.profile, plant.source)
-                config = _bridge_config(args, what.axis, what)
-                bridges.append(stack.enter_context(Bridge(session, drive, params, config)))
-                if not args.json:
-                    print(startup_line(config, options), file=sys.stderr, flush=True)
-            notify_ready()
-            gc.freeze()
-        master.cycle.start_measuring()
-        run_bridges(bridges, stop, master.cycle.after_tick)
-        return {b.keys.axis: b.report for b in bridges}, master.cycle.report()
 
 
 def _print_reports(
