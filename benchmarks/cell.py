@@ -8,15 +8,15 @@ alternating from one N to the next:
 * **router**: ``axisflow router`` listens; the recorder and the publisher are its clients (the
   deployment of docs/deployment.md: every sample crosses the router).
 
-The publisher plays N synthetic axes with the pipeline benchmark's paced publishers
-(:func:`axisflow.benchmarks.pipeline.play`: N JointState streams at 1 kHz, pre-encoded, the stamp
-patched per tick), which loads the recorder and the router as N drives would. A step passes when every
-published sample is in the file with no sequence gap, the recorder keeps up (p99 stamp → write ≤ 100
-ms) and the publisher held 1 kHz. Per step: published, recorded, lost, gaps, the latency from each
-sample's header stamp (the drive's time) to the recorder's write (MCAP ``log_time``) p50/p99, and the
-CPU time of the recorder and the router. The search stops at the first N where both paths fail (or
-when ``--budget`` runs out); it reports the largest N with zero loss for each path and their ratio, and
-the latencies at the smallest N side by side.
+The publisher plays N synthetic axes (:mod:`axisflow.benchmarks.toolkit.synthetic_publisher`: N
+JointState streams at 1 kHz, pre-encoded, the stamp patched per tick), which loads the recorder and
+the router as N drives would. A step passes when every published sample is in the file with no
+sequence gap, the recorder keeps up (p99 stamp → write ≤ 100 ms) and the publisher held 1 kHz. Per
+step: published, recorded, lost, gaps, the latency from each sample's header stamp (the drive's time)
+to the recorder's write (MCAP ``log_time``) p50/p99, and the CPU time of the recorder and the router.
+The search stops at the first N where both paths fail (or when ``--budget`` runs out); it reports the
+largest N with zero loss for each path and their ratio, and the latencies at the smallest N side by
+side.
 
 Then (``--outage-axes``, default 4; 0 skips it) the outages of docs/deployment.md with real bridges
 (:mod:`axisflow.benchmarks.cell_outage`): the router restarted, and the router frozen (SIGSTOP).
@@ -32,14 +32,12 @@ import tempfile
 import time
 from pathlib import Path
 
-from axisflow.model import EXECUTION_RATE_HZ
+from axisflow.deploy.processes import Launcher, free_port
 
-from axisflow.deploy.processes import Launcher, cpu_seconds, free_port
+from .pipeline import KEEP_UP_P99_US, analyse_recording, axis_counts, failure
+from .toolkit import synthetic_publisher
+from .toolkit.proc_stats import cpu_seconds_or_zero
 
-from .pipeline import KEEP_UP_P99_US, analyse_recording, axis_counts, failure, payload_template, play
-
-PUBLISHER_ENTRY = "axisflow.benchmarks.cell:publisher_main"
-"""the publisher process: ``ENDPOINT MODE AXES SECONDS``"""
 DEFAULT_AXES = "4,8,16,32,48,64,96,128"
 PATHS = ("peer-to-peer", "router")
 
@@ -63,42 +61,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
-# --------------------------------------------------------------------------- publisher process
-
-
-def publisher_main() -> None:
-    """Entry of the publisher process: ``ENDPOINT MODE AXES SECONDS``; prints one JSON line."""
-    from axisflow.acquisition import AxisKeys, ZenohOptions, open_session
-    from axisflow.acquisition.bus.publisher import SequencedPublisher, Traffic, wait_for_subscribers
-
-    endpoint, mode, n_axes, seconds = sys.argv[1], sys.argv[2], int(sys.argv[3]), float(sys.argv[4])
-    with open_session(ZenohOptions(mode=mode, connect=(endpoint,))) as session:
-        pubs = [
-            SequencedPublisher(
-                session, AxisKeys(f"bench{i}").state, "sensor_msgs/msg/JointState", Traffic.TELEMETRY
-            )
-            for i in range(n_axes)
-        ]
-        templates = [payload_template(f"bench{i}") for i in range(n_axes)]
-        matched = wait_for_subscribers(pubs, 15.0)
-        n_ticks = round(seconds * EXECUTION_RATE_HZ)
-        wall, late = play(pubs, templates, n_ticks, paced=True)
-        for pub in pubs:
-            pub.undeclare()
-    print(
-        json.dumps({"matched": matched, "ticks": n_ticks, "axes": n_axes, "wall_s": wall, "late_ticks": late})
-    )
-
-
 # --------------------------------------------------------------------------- one step
-
-
-def cpu_s(pid: int) -> float:
-    """User + system CPU time of process ``pid`` so far [s] (0 once it is gone)."""
-    try:
-        return cpu_seconds(pid)
-    except OSError:
-        return 0.0
 
 
 def run_step(tmp: Path, n_axes: int, seconds: float, path: str) -> dict:
@@ -117,9 +80,13 @@ def run_step(tmp: Path, n_axes: int, seconds: float, path: str) -> dict:
             rec = launcher.start("recorder", *record, "--listen", endpoint, ready=True)
             mode = "peer"
         launcher.wait_ready(rec, 60.0)
-        pub = launcher.start("publisher", endpoint, mode, str(n_axes), str(seconds), entry=PUBLISHER_ENTRY)
+        args = synthetic_publisher.arguments(endpoint, n_axes, seconds, mode=mode)
+        pub = launcher.start("publisher", *args, entry=synthetic_publisher.ENTRY)
         published = launcher.wait(pub)
-        cpu = {"recorder_cpu_s": cpu_s(rec.pid), "router_cpu_s": cpu_s(router.pid) if router else None}
+        cpu = {
+            "recorder_cpu_s": cpu_seconds_or_zero(rec.pid),
+            "router_cpu_s": cpu_seconds_or_zero(router.pid) if router else None,
+        }
         recorded = launcher.stop(rec, 60.0)  # its stop proves the publisher's last samples arrived
     if published.returncode != 0 or not published.stdout.strip():
         raise RuntimeError(f"publisher ({path}, {n_axes} axes) failed: {published.stderr[-2000:]}")

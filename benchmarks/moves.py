@@ -29,7 +29,9 @@ import time
 from pathlib import Path
 
 from axisflow.arguments import finite_float, positive_int
-from axisflow.deploy.processes import Launcher, cpu_seconds, free_port
+from axisflow.deploy.processes import Launcher, free_port
+
+from .toolkit.proc_stats import cpu_seconds
 
 GOAL_SPEED = 40.0
 GOAL_CPU_US = 50.0

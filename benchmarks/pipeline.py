@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import struct
 import sys
 import tempfile
 import time
@@ -35,10 +34,12 @@ import numpy as np
 from axisflow.model import EXECUTION_RATE_HZ
 
 from axisflow.arguments import finite_float, positive_int
-from axisflow.deploy.processes import Child, Launcher, cpu_seconds, free_port, thread_cpu_seconds
+from axisflow.deploy.processes import Child, Launcher, free_port
 
-PUBLISHER_ENTRY = "axisflow.benchmarks.pipeline:publisher_main"
-"""the publisher process: ``PORT AXES SECONDS SPEED``"""
+from .toolkit import synthetic_publisher
+from .toolkit.proc_stats import cpu_seconds, rss_kb, thread_cpu_seconds
+from .toolkit.synthetic_publisher import STAMP
+
 RAW_SUBSCRIBER_ENTRY = "axisflow.benchmarks.pipeline:raw_subscriber_main"
 """the reference subscriber process of the flood: ``PORT MESSAGES``"""
 DEFAULT_AXES = "8,16,32,48,64,96,128,192,256"
@@ -46,7 +47,6 @@ KEEP_UP_P99_US = 100_000.0
 """a step passes if nothing is lost *and* the recorder keeps up in real time: p99 stamp→write ≤ 100 ms
 (a recorder that falls behind still loses nothing while its queue absorbs the backlog, but only for a
 while)"""
-_STAMP = struct.Struct("<iI")
 
 
 def axis_counts(text: str) -> list[int]:
@@ -100,69 +100,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
-# --------------------------------------------------------------------------- publisher process
-
-
-def payload_template(axis: str) -> bytearray:
-    from axisflow.acquisition import AxisSample
-
-    return bytearray(AxisSample(0, axis, 0.4, 0.1, 12.0, 133.0, 33.0, 0.05).encode())
-
-
-def play(pubs: list, templates: list[bytearray], n_ticks: int, paced: bool) -> tuple[float, int]:
-    """Publish ``templates[i]`` on ``pubs[i]`` every tick, each stamped with the wall clock (only the
-    stamp patched into the pre-encoded JointState); at 1 kHz if ``paced``, else as fast as possible.
-    Returns the wall time [s] and the ticks started more than 2 ms late."""
-    late = 0
-    t0 = time.monotonic_ns()
-    for k in range(n_ticks):
-        if paced:
-            deadline = t0 + k * 1_000_000
-            now = time.monotonic_ns()
-            if deadline > now:
-                time.sleep((deadline - now) * 1e-9)
-            elif now - deadline > 2_000_000:
-                late += 1
-        stamp = time.time_ns()
-        sec_ns = divmod(stamp, 1_000_000_000)
-        for pub, buf in zip(pubs, templates, strict=True):
-            _STAMP.pack_into(buf, 4, *sec_ns)
-            pub.put(bytes(buf), stamp)
-    return (time.monotonic_ns() - t0) * 1e-9, late
-
-
-def publisher_main() -> None:
-    """Entry of the publisher process: ``PORT AXES SECONDS SPEED``; prints one JSON line."""
-    from axisflow.acquisition import AxisKeys, ZenohOptions, open_session
-    from axisflow.acquisition.bus.publisher import SequencedPublisher, Traffic, wait_for_subscribers
-
-    port, n_axes, seconds, speed = int(sys.argv[1]), int(sys.argv[2]), float(sys.argv[3]), float(sys.argv[4])
-    traffic = Traffic.TELEMETRY if speed > 0 else Traffic.BULK
-    with open_session(ZenohOptions.loopback(connect_port=port)) as session:
-        pubs = [
-            SequencedPublisher(session, AxisKeys(f"bench{i}").state, "sensor_msgs/msg/JointState", traffic)
-            for i in range(n_axes)
-        ]
-        templates = [payload_template(f"bench{i}") for i in range(n_axes)]
-        matched = wait_for_subscribers(pubs, 15.0)
-        n_ticks = round(seconds * EXECUTION_RATE_HZ)
-        cpu0 = time.process_time()
-        wall, late = play(pubs, templates, n_ticks, paced=speed > 0)
-        cpu_s = time.process_time() - cpu0
-        for pub in pubs:
-            pub.undeclare()
-    print(
-        json.dumps(
-            {
-                "matched": matched,
-                "ticks": n_ticks,
-                "axes": n_axes,
-                "wall_s": wall,
-                "late_ticks": late,
-                "cpu_s": cpu_s,
-            }
-        )
-    )
+# --------------------------------------------------------------------------- the bare subscriber
 
 
 def raw_subscriber_main() -> None:
@@ -213,8 +151,9 @@ def _raw_flood(tmp: Path, n_keys: int, n: int) -> tuple[float, int, int]:
     with Launcher(tmp / "logs") as launcher:
         sub = launcher.start("bare-subscriber", str(port), str(n), entry=RAW_SUBSCRIBER_ENTRY, ready=True)
         launcher.wait_ready(sub, 60.0)
-        pub = launcher.start("publisher", str(port), str(n_keys), str(n / n_keys / EXECUTION_RATE_HZ), "0",
-                             entry=PUBLISHER_ENTRY)  # fmt: skip
+        seconds = n / n_keys / EXECUTION_RATE_HZ
+        args = synthetic_publisher.arguments(f"tcp/127.0.0.1:{port}", n_keys, seconds, speed=0)
+        pub = launcher.start("publisher", *args, entry=synthetic_publisher.ENTRY)
         published = launcher.wait(pub, 60.0)
         taken = launcher.wait(sub, 60.0)
     if published.returncode != 0 or taken.returncode != 0 or not taken.stdout.strip():
@@ -227,16 +166,6 @@ def _raw_flood(tmp: Path, n_keys: int, n: int) -> tuple[float, int, int]:
 
 
 # --------------------------------------------------------------------------- helpers
-
-
-def rss_kb(pid: int, field: str = "VmRSS") -> int:
-    try:
-        for line in Path(f"/proc/{pid}/status").read_text().splitlines():
-            if line.startswith(field + ":"):
-                return int(line.split()[1])
-    except OSError:
-        pass
-    return 0
 
 
 def analyse_recording(path: Path, cut_ns: int | None = None) -> dict[str, object]:
@@ -258,7 +187,7 @@ def analyse_recording(path: Path, cut_ns: int | None = None) -> dict[str, object
         counts[topic] = counts.get(topic, 0) + 1
         # one publisher per topic here; MCAP keeps its sequence numbers but not its id
         sequences.setdefault(topic, SequenceTracker()).add(b"", m.sequence)
-        sec, nsec = _STAMP.unpack_from(m.data, 4)
+        sec, nsec = STAMP.unpack_from(m.data, 4)
         lat.append(m.log_time - (sec * 1_000_000_000 + nsec))
     arr = np.array(lat, dtype=np.int64) if lat else np.zeros(1, dtype=np.int64)
     return {
@@ -280,7 +209,9 @@ def _run_step(tmp: Path, n_axes: int, seconds: float, speed: float = 1.0, sample
     with Launcher(tmp / "logs") as launcher:
         rec = _start_recorder(launcher, out, port)
         pub = launcher.start(
-            "publisher", str(port), str(n_axes), str(seconds), str(speed), entry=PUBLISHER_ENTRY
+            "publisher",
+            *synthetic_publisher.arguments(f"tcp/127.0.0.1:{port}", n_axes, seconds, speed),
+            entry=synthetic_publisher.ENTRY,
         )
         t0 = time.monotonic()
         cpu_before = thread_cpu_seconds(rec.pid)
@@ -378,7 +309,7 @@ def _baseline_writer(n: int, tmp: Path) -> float:
     from axisflow.acquisition.wire.messages import JOINT_STATE_SCHEMA
     from mcap.writer import CompressionType, Writer
 
-    payload = bytes(payload_template("bench0"))
+    payload = bytes(synthetic_publisher.payload_template("bench0"))
     path = tmp / "baseline.mcap"
     with open(path, "wb") as fh:
         w = Writer(fh, compression=CompressionType.ZSTD)

@@ -29,16 +29,16 @@ import tempfile
 import time
 from pathlib import Path
 
-from ..deploy.processes import Launcher, cpu_seconds, free_port
-from .pipeline import axis_counts, play
+from ..deploy.processes import Launcher, free_port
+from .pipeline import axis_counts
+from .toolkit import synthetic_publisher
+from .toolkit.proc_stats import cpu_seconds
 
 GOAL_HOUR_S = 10.0
 GOAL_LIVE_P99_MS = 100.0
 GOAL_LIVE_AXES = 8
 """the live goal holds at this many axes; other counts in ``--axes`` are measured, not judged"""
 CLI = [sys.executable, "-c", "import sys; from axisflow.cli import main; sys.exit(main())"]
-PUBLISHER_ENTRY = "axisflow.benchmarks.view:publisher_main"
-"""the publisher process: ``PORT AXES SECONDS``"""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -58,47 +58,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--no-live", action="store_true", help="skip the live step")
     parser.add_argument("--no-log", action="store_true", help="skip the log steps (1 to 3)")
     parser.add_argument("--no-verify", action="store_true", help="do not read the .rrd files back")
-
-
-# --------------------------------------------------------------------------- publisher process
-
-
-def publisher_main() -> None:
-    """Entry of the publisher process: ``PORT AXES SECONDS``; prints one JSON line. Plays AXES axes
-    ``axisflow/bench<i>`` at 1 kHz in real time: each tick a state and a setpoint per axis, stamped
-    with the wall clock, payloads pre-encoded with only the stamp patched."""
-    from axisflow.acquisition import AxisKeys, AxisSample, ZenohOptions, open_session
-    from axisflow.acquisition.bus.publisher import SequencedPublisher, Traffic, wait_for_subscribers
-    from axisflow.model import EXECUTION_RATE_HZ
-
-    port, n_axes, seconds = int(sys.argv[1]), int(sys.argv[2]), float(sys.argv[3])
-    with open_session(ZenohOptions.loopback(connect_port=port)) as session:
-        pubs, templates = [], []
-        for i in range(n_axes):
-            for kind in ("state", "setpoint"):
-                keys = AxisKeys(f"bench{i}")
-                key = keys.state if kind == "state" else keys.setpoint
-                pubs.append(SequencedPublisher(session, key, "sensor_msgs/msg/JointState", Traffic.TELEMETRY))
-                templates.append(
-                    bytearray(AxisSample(0, f"bench{i}", 0.4, 0.1, 12.0, 100.0, 2.5, 0.3).encode())
-                )
-        matched = wait_for_subscribers(pubs, 15.0)
-        n_ticks = round(seconds * EXECUTION_RATE_HZ)
-        wall, late = play(pubs, templates, n_ticks, paced=True)
-        for pub in pubs:
-            pub.undeclare()
-    print(
-        json.dumps(
-            {
-                "matched": matched,
-                "ticks": n_ticks,
-                "axes": n_axes,
-                "published": n_ticks * len(pubs),
-                "wall_s": wall,
-                "late_ticks": late,
-            }
-        )
-    )
 
 
 # --------------------------------------------------------------------------- helpers
@@ -208,7 +167,11 @@ def _live_step(args: argparse.Namespace, tmp: Path, n_axes: int) -> dict:
         )
         launcher.wait_ready(view, 60.0)  # its subscriber has joined
         pub = launcher.wait(
-            launcher.start("publisher", str(port), str(n_axes), str(args.seconds), entry=PUBLISHER_ENTRY),
+            launcher.start(
+                "publisher",
+                *synthetic_publisher.arguments(f"tcp/127.0.0.1:{port}", n_axes, args.seconds, setpoints=True),
+                entry=synthetic_publisher.ENTRY,
+            ),
             args.seconds + 60,
         )
         if pub.returncode != 0:

@@ -130,31 +130,6 @@ def stop_on_signals() -> Iterator[threading.Event]:
         os.close(read_fd)
 
 
-def cpu_seconds(pid: int) -> float:
-    """User + system CPU time process ``pid`` has used so far [s] (Linux ``/proc``; an ``OSError`` once
-    the process is gone)."""
-    return _cpu_of_stat(Path(f"/proc/{pid}/stat").read_text())
-
-
-def _cpu_of_stat(stat: str) -> float:
-    """User + system CPU time [s] in the text of a ``/proc/…/stat`` file."""
-    fields = stat.rsplit(")", 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
-
-
-def thread_cpu_seconds(pid: int) -> dict[int, tuple[str, float]]:
-    """Per thread of process ``pid``: its name and the user + system CPU time it has used so far [s]
-    (Linux ``/proc``, clock-tick resolution; a thread that ends meanwhile is left out)."""
-    out = {}
-    for tid in os.listdir(f"/proc/{pid}/task"):
-        try:
-            stat = Path(f"/proc/{pid}/task/{tid}/stat").read_text()
-        except OSError:
-            continue
-        out[int(tid)] = (stat[stat.index("(") + 1 : stat.rindex(")")], _cpu_of_stat(stat))
-    return out
-
-
 def _take_fd(name: str) -> int | None:
     """The file descriptor named by environment variable ``name``, removed from the environment (so
     that this process's own children never see a number that means nothing to them)."""

@@ -4,8 +4,7 @@ import json
 import time
 
 import pytest
-
-from axisflow.deploy.processes import cpu_seconds
+from axisflow.benchmarks.toolkit.proc_stats import cpu_seconds
 
 
 @pytest.mark.slow
