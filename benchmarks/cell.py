@@ -32,6 +32,7 @@ import tempfile
 import time
 from pathlib import Path
 
+from axisflow.arguments import finite_float
 from axisflow.deploy.processes import Launcher, free_port
 
 from .pipeline import KEEP_UP_P99_US, analyse_recording, axis_counts, failure
@@ -49,9 +50,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=DEFAULT_AXES,
         help=f"axis counts to try, ascending (default {DEFAULT_AXES})",
     )
-    parser.add_argument("--seconds", type=float, default=3.0, help="run time per step [s] (default 3)")
+    parser.add_argument("--seconds", type=finite_float, default=3.0, help="run time per step [s] (default 3)")
     parser.add_argument(
-        "--budget", type=float, default=300.0, help="stop the capacity search after [s] (default 300)"
+        "--budget", type=finite_float, default=300.0, help="stop the capacity search after [s] (default 300)"
     )
     parser.add_argument(
         "--outage-axes",

@@ -29,6 +29,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from ..arguments import finite_float
+
 GOAL_TOTAL_S = 10.0
 GOAL_RSS_MB = 1024.0
 
@@ -61,7 +63,7 @@ print(json.dumps({"read_s": time.perf_counter() - t0, "rows": len(columns),
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--hours", type=float, default=1.0, help="log length [h] (default 1)")
+    parser.add_argument("--hours", type=finite_float, default=1.0, help="log length [h] (default 1)")
     parser.add_argument(
         "--log", default=None, metavar="FILE", help="keep the synthetic log here (reused if it exists)"
     )

@@ -19,13 +19,13 @@ import time
 from pathlib import Path
 from typing import Any
 
-from axisflow.arguments import positive_int
+from axisflow.arguments import finite_float, positive_int
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--joins", type=positive_int, default=100, help="joins per row (default 100)")
     parser.add_argument(
-        "--seconds", type=float, default=0.3, help="reading time after each join [s] (default 0.3)"
+        "--seconds", type=finite_float, default=0.3, help="reading time after each join [s] (default 0.3)"
     )
 
 

@@ -38,7 +38,7 @@ import time
 from pathlib import Path
 from typing import Any
 
-from axisflow.arguments import positive_int
+from axisflow.arguments import finite_float, positive_int
 
 SUBSCRIBER_ENTRY = "axisflow.benchmarks.ros2:subscriber_main"
 """a subscriber process: ``zenoh PORT SECONDS`` or ``ros TOPIC SECONDS``; prints one JSON line"""
@@ -52,7 +52,10 @@ AXIS = "a0"
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
-        "--seconds", type=float, default=10.0, help="samples per path, in seconds of 1 kHz (default 10)"
+        "--seconds",
+        type=finite_float,
+        default=10.0,
+        help="samples per path, in seconds of 1 kHz (default 10)",
     )
     parser.add_argument(
         "--samples",

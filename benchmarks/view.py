@@ -29,6 +29,7 @@ import tempfile
 import time
 from pathlib import Path
 
+from ..arguments import finite_float
 from ..deploy.processes import Launcher, free_port
 from .pipeline import axis_counts
 from .toolkit import synthetic_publisher
@@ -42,7 +43,7 @@ CLI = [sys.executable, "-c", "import sys; from axisflow.cli import main; sys.exi
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--hours", type=float, default=1.0, help="log length [h] (default 1)")
+    parser.add_argument("--hours", type=finite_float, default=1.0, help="log length [h] (default 1)")
     parser.add_argument(
         "--log", default=None, metavar="FILE", help="keep the synthetic log here (reused if it exists)"
     )
@@ -53,7 +54,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help=f"axis counts of the live step, comma-separated (default {GOAL_LIVE_AXES})",
     )
     parser.add_argument(
-        "--seconds", type=float, default=10.0, help="length of each live step [s] (default 10)"
+        "--seconds", type=finite_float, default=10.0, help="length of each live step [s] (default 10)"
     )
     parser.add_argument("--no-live", action="store_true", help="skip the live step")
     parser.add_argument("--no-log", action="store_true", help="skip the log steps (1 to 3)")
