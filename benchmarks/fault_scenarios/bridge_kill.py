@@ -15,6 +15,7 @@ import numpy as np
 from ...acquisition import MoveSender, MoveState, is_complete, load_plant, open_session
 from ...deploy.processes import Exited, Launcher, wait_until
 from ...model import default_params, stop_profile
+from ...model.encoder import encoder_resolution_m
 from .outcome import FaultResult, Outcome
 from .rig import KEYS, STATE_TOPIC, Rig, fastest_move_s
 from .ticks import TICK_NS, TickRecord, tick_record
@@ -148,5 +149,5 @@ def bridge_kill(work: Path, at_fraction: float = 0.45) -> BridgeKillResult:
         else [],
         recorder=recorder_end,
         complete=is_complete(rig.recording),
-        count_m=2.0 * np.pi * plant.axis.r / plant.encoder.counts_per_rev,
+        count_m=encoder_resolution_m(plant.axis.r, plant.encoder.counts_per_rev),
     )
