@@ -162,19 +162,17 @@ def _pct(value: float | None) -> str:
 
 
 def _adapt(args: argparse.Namespace, out: Path) -> int:
-    """The adaptation benchmark as a demo: the same run, its session folder under logs/."""
-    from ..benchmarks import adapt
+    """The adaptation experiment as a demo (``axisflow bench adapt``'s run), its session folder under
+    logs/."""
+    from ..demo.adaptation import AdaptationSettings, adaptation_markdown, run_adaptation
 
-    bench = argparse.Namespace(
-        minutes=args.adapt_minutes,
-        waypoints=args.waypoints,
-        seed=args.seed,
-        adapt_from="refit",
-        out=str(out),
-        no_rrd=False,
-        json=False,
+    settings = AdaptationSettings(
+        out=out, minutes=args.adapt_minutes, waypoints=args.waypoints, seed=args.seed
     )
-    return adapt.run(bench)
+    with stop_on_signals() as stop:
+        results = run_adaptation(settings, lambda line: print(line, flush=True), stop)
+    print(adaptation_markdown(results, settings))
+    return 0
 
 
 def _run_cell(settings: DemoSettings, axes: int) -> int:

@@ -1,4 +1,6 @@
-"""Adapt: online re-identification against nominal parameters and a one-time refit, on a warming axis.
+"""The adaptation experiment: online re-identification against nominal parameters and a one-time refit,
+on a warming axis (``axisflow bench adapt``, ``axisflow demo --adapt``; :func:`run_adaptation` with
+:class:`AdaptationSettings`).
 
 Three simulated axes, each its own bridge process with its own ``warm-up`` plant (the same seed, so
 the same axis) at ``--speed 0``, named for the way their planner chooses its parameters:
@@ -7,11 +9,11 @@ the same axis) at ``--speed 0``, named for the way their planner chooses its par
 * ``refit`` — a one-time refit at the start (the demo's excitation and ``identify``), throughout;
 * ``adapt`` — online adaptation: ``axisflow adapt --axis adapt`` (a process) refits over a sliding
   window of the axis's samples, and the planner plans every next move with the newest accepted set
-  (``--adapt-from``: starting from the refit, the default, or from the nominal parameters).
+  (``adapt_from``: starting from the refit, the default, or from the nominal parameters).
 
 All three run the same excitation first (so their plants share one history), then, in this process
 (a planner node per axis, one thread each), the paper's way points over and over — minimum time,
-poly3, poly5 and poly7 in turn, each pass through all the way points — for at least ``--minutes`` of
+poly3, poly5 and poly7 in turn, each pass through all the way points — for at least ``minutes`` of
 axis time, and last one pass of minimum time-energy (ω = 0.9, poly5) through the same way points.
 Why three axes at once rather than one after the other: the same wall time runs three times the axis
 time, the three plants warm through the same excitation and the same kind of moves, and one
@@ -23,9 +25,9 @@ recording holds all of it. One recorder records everything; the results come fro
   with the *measured* energy, ω·T + (1 − ω)·E_exp — what the plans really cost;
 * the adaptation's decisions (from the ``params`` records).
 
-Writes into ``--out``: ``bench.mcap``, ``refit/`` (the one-time refit), ``moves-<way>.csv/json``,
+Writes into ``out``: ``bench.mcap``, ``refit/`` (the one-time refit), ``moves-<way>.csv/json``,
 ``adapt.json``, ``adapt.md``, ``adapt.png`` (E% per move, :mod:`axisflow.viz.adaptation_figure`) and,
-unless ``--no-rrd``, ``session.rrd`` (the rerun view of the recording: signals, E% per move, the
+with ``rrd``, ``session.rrd`` (the rerun view of the recording: signals, E% per move, the
 adapted parameters with their σ band, the friction curve).
 
 Goals (issue 21): with adaptation, median |E%| ≤ 1 % in every minute after the first two; the one-time
@@ -34,13 +36,13 @@ refit drifts past 3 %; the adapted plans compared with the stale ones at the sam
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import os
 import threading
 import time
 from collections import Counter
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -69,22 +71,22 @@ TAIL_WAIT_S = 120.0
 """the most wall time the tail may take [s]"""
 
 
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument(
-        "--minutes", type=float, default=10.0, help="axis time of way points per way (default 10)"
-    )
-    parser.add_argument("--waypoints", type=int, default=50, help="way points per pass (default 50)")
-    parser.add_argument("--seed", type=int, default=0, help="way point seed (default 0)")
-    parser.add_argument(
-        "--adapt-from",
-        choices=("refit", "nominal"),
-        default="refit",
-        help="the adaptive way's starting parameters (default: the one-time refit)",
-    )
-    parser.add_argument(
-        "--out", default="logs/bench-adapt", metavar="DIR", help="output folder (new or empty)"
-    )
-    parser.add_argument("--no-rrd", action="store_true", help="do not write the rerun view session.rrd")
+@dataclass(frozen=True)
+class AdaptationSettings:
+    """What the adaptation experiment runs, and where it writes."""
+
+    out: Path
+    """the output folder (new or empty)"""
+    minutes: float = 10.0
+    """axis time of way points per way [min]"""
+    waypoints: int = 50
+    """way points per pass"""
+    seed: int = 0
+    """way point seed"""
+    adapt_from: str = "refit"
+    """the adaptive way's starting parameters: ``refit`` (the one-time refit) or ``nominal``"""
+    rrd: bool = True
+    """write the rerun view session.rrd"""
 
 
 @dataclass
@@ -100,13 +102,17 @@ class WayResult:
     versions: tuple[int, int] = (0, 0)
 
 
-def run(args: argparse.Namespace) -> int:
-    # everything heavy here: `axisflow bench --help` imports this module
+def run_adaptation(
+    settings: AdaptationSettings, say: Callable[[str], None], stop: threading.Event
+) -> dict[str, Any]:
+    """Run the experiment (the module docstring) into ``settings.out``, saying what it does through
+    ``say``; ``stop`` ends it early. Returns the results, also written to adapt.json and adapt.md."""
+    # everything heavy here: loaded when the experiment runs
     from ..acquisition.bus.axis_state import DriveWatch
     from ..acquisition.bus.readiness import wait_for_token
     from ..acquisition.bus.session import ZenohOptions, open_session
     from ..acquisition.wire.keys import AxisKeys, recorder_token
-    from ..deploy.processes import READY_TIMEOUT_S, Launcher, free_port, stop_on_signals
+    from ..deploy.processes import READY_TIMEOUT_S, Launcher, free_port
     from ..experiment.refit_folder import identify_to
     from ..experiment.waypoints import random_waypoints
     from ..identification.excitation import design_excitation
@@ -115,25 +121,26 @@ def run(args: argparse.Namespace) -> int:
     from ..model.files import check_output_dir, ensure_dir
     from ..nodes.excite import run_excitation
 
-    if not (math.isfinite(args.minutes) and 1.0 <= args.minutes <= 600.0):
-        raise AxisflowError(f"--minutes {args.minutes:g} must be in [1, 600] min of axis time")
-    if not 2 <= args.waypoints <= 10_000:
-        raise AxisflowError(f"--waypoints {args.waypoints} must be in [2, 10000]")
-    out = Path(args.out)
+    if settings.adapt_from not in ("refit", "nominal"):
+        raise AxisflowError(f"adapt from {settings.adapt_from!r} must be refit or nominal")
+    if not (math.isfinite(settings.minutes) and 1.0 <= settings.minutes <= 600.0):
+        raise AxisflowError(f"--minutes {settings.minutes:g} must be in [1, 600] min of axis time")
+    if not 2 <= settings.waypoints <= 10_000:
+        raise AxisflowError(f"--waypoints {settings.waypoints} must be in [2, 10000]")
+    out = settings.out
     check_output_dir(out)
     if out.exists() and any(out.iterdir()):
         raise AxisflowError(f"--out {out} is not empty: choose a new folder")
     ensure_dir(out)
-    say = (lambda _line: None) if args.json else (lambda line: print(line, flush=True))
     nominal = default_params()
-    waypoints = random_waypoints(args.waypoints, args.seed, nominal)
-    n_passes = _passes(args.minutes, waypoints, nominal)
+    waypoints = random_waypoints(settings.waypoints, settings.seed, nominal)
+    n_passes = _passes(settings.minutes, waypoints, nominal)
     recording = out / "bench.mcap"
     endpoint = f"tcp/127.0.0.1:{free_port()}"
     t_start = time.monotonic()
     load = os.getloadavg()
     wall: dict[str, float] = {}
-    with stop_on_signals() as stop, Launcher(out / "logs") as children:
+    with Launcher(out / "logs") as children:
         say(f"adapt benchmark in {out}: three warm-up axes at --speed 0 on {endpoint}; load {load[0]:.2f}")
         # the recorder first, listening: it joins at once (no publisher yet to answer its hellos, which a
         # loaded machine may answer late) and every bridge that connects afterwards knows its subscriber
@@ -179,8 +186,10 @@ def run(args: argparse.Namespace) -> int:
             wall["excitation"] = time.monotonic() - t0
             # 2. the one-time refit, from the refit axis's excitation
             t0 = time.monotonic()
-            settings = IdentifySettings(topic="/axisflow/refit/state", window=excitations["refit"].window())
-            _ident, report = identify_to(out / "refit", [recording], nominal, settings)
+            refit_settings = IdentifySettings(
+                topic="/axisflow/refit/state", window=excitations["refit"].window()
+            )
+            _ident, report = identify_to(out / "refit", [recording], nominal, refit_settings)
             refit = load_params(out / "refit" / "params.toml")
             wall["identification"] = time.monotonic() - t0
             say(
@@ -188,7 +197,7 @@ def run(args: argparse.Namespace) -> int:
                 + ", ".join(f"{n} {p['value']:.4g}" for n, p in report["parameters"].items())
             )
             # 3. the adaptive node, from its starting set
-            start_file = out / "refit" / "params.toml" if args.adapt_from == "refit" else None
+            start_file = out / "refit" / "params.toml" if settings.adapt_from == "refit" else None
             adapt_args = ["--params", str(start_file)] if start_file else []
             adapter = children.start(
                 "adapt", "adapt", "--axis", "adapt", "--connect", endpoint, *adapt_args, ready=True
@@ -224,16 +233,16 @@ def run(args: argparse.Namespace) -> int:
         if end.returncode != 0:
             raise AxisflowError(f"the recorder exited with {end.returncode}: see {out / 'logs'}")
     t0 = time.monotonic()
-    results = _results(recording, out, args.minutes)
+    results = _results(recording, out, settings.minutes)
     for way in WAYS:
         late = [k for r in reports[way] for k in r.late_moves]
         results["ways"][way]["late_moves"] = len(late)
     results["passes"] = n_passes
-    results["waypoints"] = args.waypoints
-    results["seed"] = args.seed
-    results["adapt_from"] = args.adapt_from
+    results["waypoints"] = settings.waypoints
+    results["seed"] = settings.seed
+    results["adapt_from"] = settings.adapt_from
     wall["analysis"] = time.monotonic() - t0
-    if not args.no_rrd:
+    if settings.rrd:
         t0 = time.monotonic()
         from ..viz.session import write_session_rrd
 
@@ -242,12 +251,8 @@ def run(args: argparse.Namespace) -> int:
     results["wall_time_s"] = time.monotonic() - t_start
     results["phases_s"] = wall
     results["load_average"] = {"start": list(load), "end": list(os.getloadavg())}
-    _write(out, results, args)
-    if args.json:
-        print(json.dumps(results, indent=1))
-    else:
-        print(_markdown(results, args))
-    return 0
+    _write(out, results, settings)
+    return results
 
 
 def _passes(minutes: float, waypoints: Any, nominal: Any) -> int:
@@ -450,11 +455,12 @@ def _goals(ways: dict[str, Any]) -> dict[str, Any]:
     }
 
 
-def _markdown(results: dict[str, Any], args: argparse.Namespace) -> str:
+def adaptation_markdown(results: dict[str, Any], settings: AdaptationSettings) -> str:
+    """The results as a Markdown page (adapt.md), headed by the benchmark's command line."""
     ways = results["ways"]
     lines = [
-        f"# axisflow bench adapt --minutes {args.minutes:g} --waypoints {args.waypoints} --seed {args.seed} "
-        f"--adapt-from {args.adapt_from}",
+        f"# axisflow bench adapt --minutes {settings.minutes:g} --waypoints {settings.waypoints} "
+        f"--seed {settings.seed} --adapt-from {settings.adapt_from}",
         "",
         f"{results['passes']} passes of min-time moves per axis (poly3/poly5/poly7 in turn), then one pass "
         f"of min-time-energy; wall time {results['wall_time_s']:.0f} s, load average "
@@ -516,13 +522,13 @@ def _pct(value: float | None, signed: bool = False) -> str:
     return f"{value:+.2f} %" if signed else f"{value:.2f} %"
 
 
-def _write(out: Path, results: dict[str, Any], args: argparse.Namespace) -> None:
+def _write(out: Path, results: dict[str, Any], settings: AdaptationSettings) -> None:
     from ..model.files import write_atomic_files
 
     write_atomic_files(
         out,
         {
             "adapt.json": json.dumps(results, indent=1, allow_nan=False) + "\n",
-            "adapt.md": _markdown(results, args) + "\n",
+            "adapt.md": adaptation_markdown(results, settings) + "\n",
         },
     )
