@@ -1,5 +1,8 @@
 """Data acquisition: the wire records, the drives, the Zenoh bridge, the bus and the MCAP logs.
 
+Installs as ``axisflow.acquisition`` from the folder ``acquisition/`` (pyproject.toml maps each top-level
+folder to a sub-package of ``axisflow``; docs/architecture.md draws their imports).
+
 The folders follow the data path, from the drive to the disk:
 
 * :mod:`.wire` — the contract: key expressions and the ROS 2 CDR records (samples, moves, statuses,

@@ -3,6 +3,9 @@ eq. (1) visible, and the SQP refit of M_eq and a1…a4 from any JointState MCAP 
 jittered stamps and all — with what the model leaves unexplained (docs/identification.md). The fit
 over a window of samples (:func:`~.fit.fit_window`, warm-startable) is what an adaptive node reuses.
 
+Installs as ``axisflow.identification`` from the folder ``identification/`` (pyproject.toml maps each
+top-level folder to a sub-package of ``axisflow``; docs/architecture.md draws their imports).
+
 Uses the model and acquisition's records-and-logs layer (the fast log reader); loads no Zenoh. Every
 name is loaded with its module on first use, so the excitation stays light: the names of the fit
 (which needs CasADi) load CasADi only when used.

@@ -1,6 +1,9 @@
 """The shared model of the axis: parameters, eq. (1) dynamics, friction, motion laws, energy, limits,
 and the drive's 1 kHz sampling rule.
 
+Installs as ``axisflow.model`` from the folder ``model/`` (pyproject.toml maps each top-level
+folder to a sub-package of ``axisflow``; docs/architecture.md draws their imports).
+
 This is the bottom layer of axisflow: it depends on numpy/scipy only, and everything else
 (acquisition, identification, planner, viz, the command line) imports it, never the reverse.
 

@@ -1,5 +1,8 @@
 """Point-to-point planning: the paper's problem, its back-ends and their results.
 
+Installs as ``axisflow.planner`` from the folder ``planner/`` (pyproject.toml maps each top-level
+folder to a sub-package of ``axisflow``; docs/architecture.md draws their imports).
+
 Each public name is loaded with its module on first use: importing one module of the planner (its
 defaults, say) costs that module only.
 """

@@ -1,5 +1,8 @@
 """rerun views of the axis signals, live and from logs, and the paper's figures as pictures.
 
+Installs as ``axisflow.viz`` from the folder ``viz/`` (pyproject.toml maps each top-level
+folder to a sub-package of ``axisflow``; docs/architecture.md draws their imports).
+
 Public API (each name is loaded with its module on first use, so importing the package stays light
 and never loads zenoh; only the live view uses the network):
 
