@@ -7,7 +7,6 @@ import threading
 import time
 from collections import Counter
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
 import zenoh
@@ -16,15 +15,13 @@ from ...acquisition import AxisKeys, MoveState, MoveStatus, ZenohOptions, is_com
 from ...acquisition.bus.readiness import JoinedSubscriber, say_hello
 from ...deploy.processes import READY_TIMEOUT_S, Child, Exited, Launcher, free_port, wait_until
 from ...model import AxisParams, default_params
+from ..toolkit.proc_stats import status_kb
 from .ticks import KEYS, SETPOINT_TOPIC, STATE_TOPIC, TickRecord, tick_record
 
 
 def rss_mb(pid: int) -> float:
-    """Resident set size of process ``pid`` [MB] (from /proc/<pid>/status)."""
-    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
-        if line.startswith("VmRSS:"):
-            return int(line.split()[1]) / 1024.0
-    raise RuntimeError(f"no VmRSS for process {pid}")
+    """Resident set size of process ``pid`` [MB] (an ``OSError`` or ``RuntimeError`` once it is gone)."""
+    return status_kb(pid) / 1024.0
 
 
 class Rig:

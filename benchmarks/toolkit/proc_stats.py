@@ -40,13 +40,19 @@ def thread_cpu_seconds(pid: int) -> dict[int, tuple[str, float]]:
     return out
 
 
-def rss_kb(pid: int, field: str = "VmRSS") -> int:
+def status_kb(pid: int, field: str = "VmRSS") -> int:
     """A memory figure of process ``pid`` from ``/proc/<pid>/status`` [kB] (``VmRSS``: resident now,
-    ``VmHWM``: its peak); 0 once the process is gone."""
+    ``VmHWM``: its peak); an ``OSError`` once the process is gone, a ``RuntimeError`` if it has no such
+    figure (a process that is exiting)."""
+    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+        if line.startswith(field + ":"):
+            return int(line.split()[1])
+    raise RuntimeError(f"no {field} for process {pid}")
+
+
+def rss_kb(pid: int, field: str = "VmRSS") -> int:
+    """:func:`status_kb`, or 0 once the process is gone."""
     try:
-        for line in Path(f"/proc/{pid}/status").read_text().splitlines():
-            if line.startswith(field + ":"):
-                return int(line.split()[1])
-    except OSError:
-        pass
-    return 0
+        return status_kb(pid, field)
+    except (OSError, RuntimeError):
+        return 0

@@ -7,11 +7,11 @@ import json
 import os
 import signal
 import time
-from pathlib import Path
 
 import pytest
 from axisflow.acquisition.logs.recording_writer import LOSS_METADATA
-from axisflow.benchmarks.pipeline import PUBLISHER_ENTRY
+from axisflow.benchmarks.toolkit import synthetic_publisher
+from axisflow.benchmarks.toolkit.proc_stats import status_kb
 from mcap.reader import make_reader
 
 from axisflow.deploy.processes import wait_until
@@ -20,13 +20,6 @@ AXES, SECONDS = 32, 8.0
 STARVED_S = 2.0
 BACKLOG_MB = 8
 QUEUE = 4096
-
-
-def _status_kb(pid: int, field: str) -> int:
-    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
-        if line.startswith(field + ":"):
-            return int(line.split()[1])
-    raise AssertionError(f"no {field} for {pid}")
 
 
 @pytest.mark.slow
@@ -38,8 +31,9 @@ def test_a_starved_recorder_stays_bounded_and_accounts_for_every_message(cli, tm
         "--queue", str(QUEUE), "--json", ready=True,
     )  # fmt: skip
     cli.wait_ready(rec)
-    rss_before_mb = _status_kb(rec.pid, "VmRSS") / 1024
-    pub = cli.launcher.start("publisher", str(port), str(AXES), str(SECONDS), "1", entry=PUBLISHER_ENTRY)
+    rss_before_mb = status_kb(rec.pid, "VmRSS") / 1024
+    args = synthetic_publisher.arguments(f"tcp/127.0.0.1:{port}", AXES, SECONDS)
+    pub = cli.launcher.start("publisher", *args, entry=synthetic_publisher.ENTRY)
     assert wait_until(lambda: cli.on_disk(out) > 2 * AXES * 1000, 60.0)  # the flood is being written
     os.kill(rec.pid, signal.SIGSTOP)
     try:
@@ -49,7 +43,7 @@ def test_a_starved_recorder_stays_bounded_and_accounts_for_every_message(cli, tm
     published = cli.finish_exited(pub, 120.0)
     assert published.returncode == 0, published.stderr
     sent = json.loads(published.stdout.strip().splitlines()[-1])
-    peak_mb = _status_kb(rec.pid, "VmHWM") / 1024
+    peak_mb = status_kb(rec.pid, "VmHWM") / 1024
     stopped = cli.launcher.stop(rec, 60.0)  # SIGINT: the recorder finishes its file
     rec_err = stopped.stderr
     summary = json.loads(stopped.stdout)

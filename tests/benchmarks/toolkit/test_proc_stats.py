@@ -3,10 +3,12 @@
 import os
 import threading
 
+import pytest
 from axisflow.benchmarks.toolkit.proc_stats import (
     cpu_seconds,
     cpu_seconds_or_zero,
     rss_kb,
+    status_kb,
     thread_cpu_seconds,
 )
 
@@ -25,4 +27,6 @@ def test_thread_cpu_seconds_names_each_thread_and_counts_its_own_work():
 def test_a_process_that_is_gone_costs_nothing_more():
     gone = 2**22 + 1  # above the largest pid_max Linux allows: no such process
     assert cpu_seconds_or_zero(gone) == 0.0 and rss_kb(gone) == 0
+    with pytest.raises(OSError):
+        status_kb(gone)
     assert rss_kb(os.getpid()) > 1000 and rss_kb(os.getpid(), "VmHWM") >= rss_kb(os.getpid())
