@@ -214,7 +214,8 @@ class FrictionFit:
         solution = self._solver(x0=x0, lbx=self._lower, p=np.r_[force_n, sigma])
         elapsed = time.perf_counter() - t0
         stats = self._solver.stats()
-        theta_opt = np.array(solution["x"]).ravel()
+        # the QP steps may end a hair outside a bound (−1e-13): the bound is the value
+        theta_opt = np.maximum(np.array(solution["x"]).ravel(), self._lower)
         found = self.initial.as_dict()
         for i, name in enumerate(self.names):
             found[name] = float(theta_opt[i] * self._scale[i])
