@@ -157,6 +157,7 @@ class FrictionFit:
             value[n] = theta[i] * self._scale[i]
         force = ca.MX.sym("force", n_samples)
         sigma = ca.MX.sym("sigma")
+        kept = ca.MX.sym("kept", n_samples)  # 1: the sample is fitted, 0: held out (scored, not fitted)
         v, a = ca.DM(velocity_m_s), ca.DM(acceleration_m_s2)
         sign_v = ca.DM(np.sign(velocity_m_s))
         k = effort_per_force
@@ -165,21 +166,21 @@ class FrictionFit:
         if self.extra_names:
             beta = theta[len(self.names) :] * ca.DM(self._scale[len(self.names) :])
             residual = residual - k * ca.mtimes(ca.DM(columns), beta)
-        weight = 1.0 / (sigma * sigma * n_samples)
+        weight = 1.0 / (sigma * sigma * ca.sum1(kept))
         jac = ca.jacobian(residual, theta)
         lam_f = ca.MX.sym("lam_f")
-        data = ca.vertcat(force, sigma)
+        data = ca.vertcat(force, sigma, kept)
         hess_lag = ca.Function(
             "gauss_newton",
             [theta, data, lam_f, ca.MX.sym("lam_g", 0)],
-            [lam_f * weight * ca.mtimes(jac.T, jac)],
+            [lam_f * weight * ca.mtimes(jac.T, ca.mtimes(ca.diag(kept), jac))],
             ["x", "p", "lam_f", "lam_g"],
             ["hess_gamma_x_x"],
         )
         self._solver = ca.nlpsol(
             "friction_fit",
             "sqpmethod",
-            {"x": theta, "p": data, "f": 0.5 * weight * ca.sumsqr(residual)},
+            {"x": theta, "p": data, "f": 0.5 * weight * ca.dot(kept, residual * residual)},
             {
                 "qpsol": "qrqp",
                 "qpsol_options": {"print_iter": False, "print_header": False, "error_on_fail": False},
@@ -200,18 +201,27 @@ class FrictionFit:
         self._k = k
 
     def solve(
-        self, force_n: np.ndarray, start: FrictionValues | None = None, start_extra: np.ndarray | None = None
+        self,
+        force_n: np.ndarray,
+        start: FrictionValues | None = None,
+        start_extra: np.ndarray | None = None,
+        kept: np.ndarray | None = None,
     ) -> FitResult:
         """Fit the measured cart force ``force_n`` [N] (one value per sample of the kinematics), starting
-        from the nominal values (β = 0) or from ``start`` (and ``start_extra``): a warm start."""
-        sigma = float(np.sqrt(np.mean((self._k * np.asarray(force_n)) ** 2))) or 1.0
+        from the nominal values (β = 0) or from ``start`` (and ``start_extra``): a warm start. ``kept``
+        (bool, one per sample; None: all) fits only those samples; the result's residuals cover every
+        sample (the others are held out: scored, not fitted)."""
+        mask = np.ones(np.size(force_n), dtype=bool) if kept is None else np.asarray(kept, dtype=bool)
+        if not mask.any():
+            raise IdentificationError("no sample is kept for the fit")
+        sigma = float(np.sqrt(np.mean((self._k * np.asarray(force_n)[mask]) ** 2))) or 1.0
         first = (start or self.initial).as_dict()
         beta0 = (
             np.zeros(len(self.extra_names)) if start_extra is None else np.asarray(start_extra, dtype=float)
         )
         x0 = np.r_[[first[n] for n in self.names], beta0] / self._scale
         t0 = time.perf_counter()
-        solution = self._solver(x0=x0, lbx=self._lower, p=np.r_[force_n, sigma])
+        solution = self._solver(x0=x0, lbx=self._lower, p=np.r_[force_n, sigma, mask.astype(float)])
         elapsed = time.perf_counter() - t0
         stats = self._solver.stats()
         # the QP steps may end a hair outside a bound (−1e-13): the bound is the value
@@ -230,7 +240,7 @@ class FrictionFit:
         if not success and status == "Search_Direction_Becomes_Too_Small":
             # the QP step fell below the step tolerance: converged if the point is stationary (KKT with
             # the bounds) for the normalised objective, to 1e-7
-            grad = jac_theta.T @ residuals / (sigma * sigma * residuals.size)
+            grad = jac_theta[mask].T @ residuals[mask] / (sigma * sigma * np.count_nonzero(mask))
             at_bound = theta_opt <= self._lower + 1e-12
             success = bool(np.all(np.where(at_bound, grad >= -1e-7, np.abs(grad) <= 1e-7)))
         return FitResult(

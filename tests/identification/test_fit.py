@@ -109,3 +109,18 @@ def test_a_log_without_low_speeds_is_told_it_cannot_separate_a1_from_a3():
     result = fit_parameters(FitSamples(v, a, force, K), NOMINAL)
     unc = estimate_uncertainty(result.fitted, result.values.as_dict(), result.jacobian, result.residuals)
     assert any(w.startswith("this log cannot separate a1 from a3") for w in unc.warnings), unc.warnings
+
+
+def test_held_out_samples_are_scored_not_fitted():
+    samples = _samples(noise_nm=0.05, seed=5)
+    n = len(samples)
+    kept = np.arange(n) < n // 2
+    problem = FrictionFit(samples.velocity_m_s, samples.acceleration_m_s2, K, NOMINAL)
+    held = problem.solve(samples.force_n, kept=kept)
+    columns = (samples.velocity_m_s, samples.acceleration_m_s2, samples.force_n)
+    alone = fit_parameters(FitSamples(*(x[kept] for x in columns), K), NOMINAL)
+    found, expected = held.values.as_dict(), alone.values.as_dict()
+    assert list(found.values()) == pytest.approx(list(expected.values()), rel=1e-7)
+    assert held.residuals.size == n  # every sample's error, the held-out ones too
+    model = held.values.force_n(samples.velocity_m_s[~kept], samples.acceleration_m_s2[~kept])
+    assert held.residuals[~kept] == pytest.approx(K * (samples.force_n[~kept] - model), abs=1e-12)
