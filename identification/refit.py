@@ -39,6 +39,7 @@ from .extra_terms import DEFAULT_STROKE_TERMS, ExtraTerms, TermColumns, covered_
 from .fit import PARAMETERS, FitResult, FrictionValues, WindowFit, check_fit_names, fit_window
 from .preparation import PreparationSettings, PreparedLog, fit_indices, fit_samples, prepare
 from .residuals import ResidualAnalysis, analyse_residuals, analysed_span
+from .selection import Selection, Structure, fit_plan, select_structure, unsupported_terms
 from .signals import DEFAULT_JOINT, DEFAULT_TOPIC, JointKind, TimeWindow, joint_kind, load_joint
 from .uncertainty import Uncertainty
 
@@ -60,6 +61,9 @@ class IdentifySettings:
     extra: ExtraTerms = field(default_factory=lambda: ExtraTerms(DEFAULT_STROKE_TERMS, auto_cogging=True))
     """terms beyond eq. (1): friction along the stroke, cogging (by default the orders the residual
     shows: :func:`auto_cogging_orders`)"""
+    select: bool = True
+    """choose the terms by the data (``--terms auto``, :mod:`.selection`): ``extra`` then offers the
+    stroke terms and cogging orders as candidates; False: fit ``fit`` and ``extra`` as they are"""
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "fit", check_fit_names(tuple(self.fit)))
@@ -120,6 +124,10 @@ class Identification:
     timing_s: dict[str, float]
     cogging_found: tuple[int, ...] = ()
     """cogging orders the first pass's residual showed and the fit then took in (``--cogging auto``)"""
+    selection: Selection | None = None
+    """the candidates compared and the structure chosen (``--terms auto``; None: fixed terms)"""
+    dropped: tuple[str, ...] = ()
+    """terms the final fit did not support (σ larger than the value), dropped and fitted again without"""
 
     @property
     def fit(self) -> FitResult:
@@ -142,7 +150,7 @@ class Identification:
     ) -> np.ndarray:
         """The model's cart force [N] at the samples ``idx`` of ``log`` (None: all): eq. (1) with the
         refit (or nominal) values, plus the extra terms (the refit's; none for the nominal model)."""
-        values = self.fit.initial if nominal else self.fit.values
+        values = FrictionValues.of(self.nominal) if nominal else self.fit.values
         v, a = (
             (log.velocity_m_s, log.acceleration_m_s2)
             if idx is None
@@ -213,23 +221,76 @@ def identify(
     parts = fit_indices(logs, s.preparation.fit_rate_hz, fit_keep)
     t_prepare = time.perf_counter()
     run = _FitPass(s, nominal, logs, val_logs, fit_keep, val_keep, parts)
-    ident = run.fit(s.extra)
+    selection = _select(run, s) if s.select else None
+    t_select = time.perf_counter()
+    structure = selection.chosen if selection else None
+    extra = s.extra if structure is None else dataclasses.replace(s.extra, **_extra_of(structure))
+    ident = run.fit(extra, structure)
     found = auto_cogging_orders(ident.residuals, ident.extra) if s.extra.auto_cogging else ()
     if found:
         orders = tuple(sorted(ident.extra.cogging_orders + found))
-        ident = run.fit(dataclasses.replace(ident.extra, cogging_orders=orders))
+        structure = None if structure is None else dataclasses.replace(structure, cogging_orders=orders)
+        ident = run.fit(dataclasses.replace(ident.extra, cogging_orders=orders), structure)
+    dropped: tuple[str, ...] = ()
+    if structure is not None:
+        dropped = unsupported_terms(structure, ident.fit.estimates, ident.uncertainty)
+        dropped = tuple(t for t in dropped if t in ("atan", "stroke", "cogging"))
+        if dropped:
+            structure = _without(structure, dropped)
+            ident = run.fit(dataclasses.replace(ident.extra, **_extra_of(structure)), structure)
     t_end = time.perf_counter()
     return dataclasses.replace(
         ident,
         cogging_found=found,
+        selection=selection,
+        dropped=dropped,
         timing_s={
             "read": t_read - t0,
             "prepare": t_prepare - t_read,
+            "select": t_select - t_prepare,
             "solve": run.solve_s,
             "judge": run.judge_s,
             "total": t_end - t0,
         },
     )
+
+
+def _select(run: _FitPass, s: IdentifySettings) -> Selection:
+    """The structure the data support (:mod:`.selection`), scored on held-out blocks of the fit samples
+    and on the validation samples (validation logs, or each log's held-out last part)."""
+    rate = s.preparation.fit_rate_hz
+    if run.val_logs:
+        val_logs, val_parts = run.val_logs, [log.fit_indices(rate) for log in run.val_logs]
+    elif run.val_keep is not None:
+        val_logs, val_parts = (
+            run.logs,
+            [log.fit_indices(rate, k) for log, k in zip(run.logs, run.val_keep, strict=True)],
+        )
+    else:
+        val_logs, val_parts = [], []
+    return select_structure(
+        run.logs,
+        run.parts,
+        val_logs,
+        val_parts,
+        run.nominal,
+        s.preparation,
+        run.stretch,
+        s.extra.stroke_terms,
+        s.extra.cogging_orders,
+        s.torque_delay_s,
+    )
+
+
+def _without(structure: Structure, terms: tuple[str, ...]) -> Structure:
+    law = tuple(t for t in structure.law if t not in terms)
+    stroke = 0 if "stroke" in terms else structure.stroke_terms
+    cogging = () if "cogging" in terms else structure.cogging_orders
+    return Structure(law, stroke, cogging)
+
+
+def _extra_of(structure: Structure) -> dict[str, object]:
+    return {"stroke_terms": structure.stroke_terms, "cogging_orders": structure.cogging_orders}
 
 
 AUTO_COGGING_RATIO = 20.0
@@ -277,19 +338,22 @@ class _FitPass:
         self.judge_s = 0.0
         """wall time of the errors and the residual analyses [s]"""
 
-    def fit(self, extra: ExtraTerms) -> Identification:
+    def fit(self, extra: ExtraTerms, structure: Structure | None = None) -> Identification:
+        """Fit ``extra`` beside eq. (1)'s parameters: those of ``structure`` (from its starting values:
+        :func:`.selection.fit_plan`), or without one the settings' ``fit`` from the nominal values."""
         t0 = time.perf_counter()
         s, nominal, logs, parts = self.settings, self.nominal, self.logs, self.parts
+        fit, start = (s.fit, nominal) if structure is None else fit_plan(structure, nominal)
         columns = [extra.columns(log, self.stretch, nominal, s.preparation) for log in logs]
         val_columns = [extra.columns(log, self.stretch, nominal, s.preparation) for log in self.val_logs]
         names, scales = extra.names, extra.scales(nominal)
         delay = None
         if s.torque_delay_s is None:
-            delay = estimate_delay(logs, parts, nominal, s.fit, columns, names, scales)
+            delay = estimate_delay(logs, parts, start, fit, columns, names, scales)
         delay_s = delay.value_s if delay is not None else s.torque_delay_s
         assert delay_s is not None
         samples = fit_samples(logs, parts, delay_s, columns)
-        window_fit = fit_window(samples, nominal, s.fit, extra_names=names, extra_scales=scales)
+        window_fit = fit_window(samples, start, fit, extra_names=names, extra_scales=scales)
         if not window_fit.success:
             result = window_fit.result
             raise IdentificationError(
@@ -298,7 +362,7 @@ class _FitPass:
         ident = Identification(
             settings=s,
             nominal=nominal,
-            params=refit_params(nominal, window_fit.values, window_fit.result.fitted),
+            params=refit_params(start, window_fit.values, window_fit.result.fitted),
             logs=tuple(logs),
             window_fit=window_fit,
             delay=delay,

@@ -42,7 +42,7 @@ def test_holdout_validates_on_the_end_of_the_log_and_reports_both_parameter_sets
     keys = {"parameters", "correlation", "condition_number", "fit", "validation", "solver", "timing_s", "log"}
     assert keys <= set(report)
     assert set(report["parameters"]["a1"]) >= {"value", "std", "initial"}
-    assert set(report["timing_s"]) == {"read", "prepare", "solve", "judge", "total"}
+    assert set(report["timing_s"]) == {"read", "prepare", "select", "solve", "judge", "total"}
     assert set(report["log"]) >= {"paths", "topic", "joint", "samples", "duration_s"}
     assert "| a1 [N] |" in report_markdown(json.loads(json.dumps(report)))
 

@@ -1,0 +1,400 @@
+"""Which terms a log supports: candidate structures compared on held-out data (``identify --terms auto``).
+
+A *structure* is the set of terms a fit takes in: Coulomb and viscous friction (always, with M_eq),
+then optionally the terms of :data:`LAW_TERMS`, the Coulomb friction along the stroke and cogging
+(:mod:`.extra_terms`). Fitting all 2ⁿ sets would be slow and pointless; the candidates are:
+
+1. **the friction law's structures** (:data:`LAW_CANDIDATES`), nested the way a drive's friction is
+   built up: the base alone, + the paper's atan term, + a constant force, + both, + a viscous
+   asymmetry, + all;
+2. then the best of those (by the rule below) **with the stroke terms** (``--stroke-terms K`` > 0)
+   and **with the cogging orders** given (``--cogging ORDERS``). Cogging orders found in a residual
+   (``--cogging auto``) are taken in afterwards, on the chosen structure (:mod:`.refit`), as before.
+
+Each candidate is scored by **time-blocked cross-validation**: the fit samples of the logs, in time
+order, are cut into :data:`FOLDS` contiguous blocks; the candidate is fitted on all blocks but one
+and its effort error (RMS, measured minus model, through the fit's filter) is measured on the block
+left out, for each block in turn. A contiguous block keeps the neighbours of a held-out sample out
+of the fit (the filtered signals are correlated over tens of milliseconds: a random split would
+score the fit on samples it has nearly seen). With ``--validate`` logs, the candidate fitted on every
+block is also scored on each validation log, which counts as one more held-out score. The scores'
+mean and standard error (sd/√n) are the candidate's held-out error.
+
+**The one-standard-error rule** (Hastie, Tibshirani and Friedman, *The Elements of Statistical
+Learning*, 2nd ed., §7.10): among the candidates whose terms the data support (below), the one of
+lowest mean held-out error sets a threshold, its mean plus its standard error; the candidate chosen
+is the simplest (fewest estimated parameters) whose mean is within that threshold. A term that
+buys less than the noise between folds is not taken.
+
+**Supported terms.** A term is *not supported* when its σ (from the fit on every block, inflated for
+the effective sample size: :mod:`.uncertainty`) is larger than its value: for a term of one
+parameter, σ > |value|; for the atan term, σ > value for a3 or for a4; for a term of several
+coefficients (the stroke's Legendre terms, a cogging order's sine and cosine, an asymmetry of two
+values), the same in the multivariate form √(βᵀC⁻¹β/p) < 1 (the coefficients' RMS in units of
+their covariance). A candidate with an unsupported term is not chosen; the base terms are never
+dropped (an unsupported Coulomb or viscous term is reported).
+
+**Cost.** At most :data:`SELECTION_SAMPLES` fit samples take part (evenly thinned, in every block),
+and each candidate is one problem (:class:`.fit.FrictionFit`) solved once per fold with the other
+blocks' samples held out (scored, not fitted): an hour of log selects in about the time of one
+fit. The torque/position offset is estimated once, on those samples, with the richest law
+structure (or given). The chosen structure is then fitted on every sample, as a fixed structure is.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .alignment import estimate_delay
+from .errors import IdentificationError
+from .extra_terms import ExtraTerms
+from .fit import FitResult, FrictionFit
+from .preparation import PreparationSettings, PreparedLog, fit_samples
+from .uncertainty import INSEPARABLE_CORRELATION, Uncertainty, estimate_uncertainty
+
+if TYPE_CHECKING:
+    from ..model import AxisParams
+
+BASE_TERMS = ("coulomb", "viscous")
+"""the terms every structure has (with the inertia M_eq)"""
+LAW_TERMS = ("atan",)
+"""the friction law's optional terms, in the order a structure lists them"""
+LAW_CANDIDATES: tuple[tuple[str, ...], ...] = ((), ("atan",))
+"""the friction law's structures the selection tries (stage 1)"""
+FOLDS = 5
+SELECTION_SAMPLES = 5000
+"""at most this many fit samples (of all logs) take part in the selection"""
+RULE = "one-standard-error rule over time-blocked cross-validation"
+
+
+@dataclass(frozen=True)
+class Structure:
+    """The terms of one fit (module docstring)."""
+
+    law: tuple[str, ...] = ()
+    """optional terms of the friction law, in :data:`LAW_TERMS` order"""
+    stroke_terms: int = 0
+    cogging_orders: tuple[int, ...] = ()
+
+    def __post_init__(self) -> None:
+        unknown = [t for t in self.law if t not in LAW_TERMS]
+        if unknown:
+            raise IdentificationError(f"unknown law terms {unknown}: choose from {', '.join(LAW_TERMS)}")
+        object.__setattr__(self, "law", tuple(t for t in LAW_TERMS if t in self.law))
+
+    @property
+    def terms(self) -> tuple[str, ...]:
+        """Every term's name: the base, the law's, then ``stroke`` and ``cogging`` if taken in."""
+        extra = ("stroke",) * bool(self.stroke_terms) + ("cogging",) * bool(self.cogging_orders)
+        return BASE_TERMS + self.law + extra
+
+    @property
+    def label(self) -> str:
+        return "+".join(self.terms)
+
+    @property
+    def extra(self) -> ExtraTerms:
+        return ExtraTerms(self.stroke_terms, self.cogging_orders)
+
+
+def fit_plan(structure: Structure, nominal: AxisParams) -> tuple[tuple[str, ...], AxisParams]:
+    """The parameters a fit of ``structure`` estimates, and the parameters it starts from (the terms it
+    does not take in switched off there: a3 = 0 without the atan term)."""
+    names = ("M_eq", "a1", "a2") + (("a3", "a4") if "atan" in structure.law else ())
+    start = nominal if "atan" in structure.law else nominal.replace(a3=0.0)
+    return names, start
+
+
+def term_parameters(structure: Structure) -> dict[str, tuple[str, ...]]:
+    """Each term of ``structure`` and the names of the parameters (or coefficients) that make it."""
+    out: dict[str, tuple[str, ...]] = {"coulomb": ("a1",), "viscous": ("a2",)}
+    if "atan" in structure.law:
+        out["atan"] = ("a3", "a4")
+    extra = structure.extra.names
+    if structure.stroke_terms:
+        out["stroke"] = tuple(n for n in extra if not n.startswith("cog"))
+    if structure.cogging_orders:
+        out["cogging"] = tuple(n for n in extra if n.startswith("cog"))
+    return out
+
+
+PER_PARAMETER_TERMS = ("atan",)
+"""terms whose every parameter must be supported on its own (a4 is meaningless without a3 and back)"""
+
+
+def unsupported_terms(structure: Structure, estimates: dict[str, float], unc: Uncertainty) -> tuple[str, ...]:
+    """The terms of ``structure`` whose σ is larger than their value (module docstring)."""
+    out = []
+    for term, names in term_parameters(structure).items():
+        if term in PER_PARAMETER_TERMS or len(names) == 1:
+            if any(unc.std[n] > abs(estimates[n]) for n in names):
+                out.append(term)
+            continue
+        index = [unc.names.index(n) for n in names]
+        std = np.array([unc.std[n] for n in names])
+        cov = unc.correlation[np.ix_(index, index)] * np.outer(std, std)
+        beta = np.array([estimates[n] for n in names])
+        wald = float(beta @ np.linalg.pinv(cov) @ beta) / len(names)
+        if not wald >= 1.0:
+            out.append(term)
+    return tuple(out)
+
+
+@dataclass(frozen=True, eq=False)
+class CandidateScore:
+    """One candidate's held-out errors and what its fit on every block says about its terms."""
+
+    structure: Structure
+    fold_rms: tuple[float, ...]
+    """held-out RMS effort error of each block [effort units]"""
+    validation_rms: tuple[float, ...]
+    """RMS effort error on each validation log [effort units]"""
+    estimates: dict[str, float]
+    std: dict[str, float]
+    condition_number: float
+    unsupported: tuple[str, ...]
+    """terms whose σ is larger than their value"""
+    flagged: tuple[tuple[str, str, float], ...]
+    """pairs of parameters the fit cannot separate (|ρ| above the uncertainty's limit)"""
+    converged: bool
+    parameters: int
+    """estimated parameters (the simplicity the rule counts)"""
+
+    @property
+    def scores(self) -> tuple[float, ...]:
+        return self.fold_rms + self.validation_rms
+
+    @property
+    def mean(self) -> float:
+        return float(np.mean(self.scores))
+
+    @property
+    def standard_error(self) -> float:
+        s = self.scores
+        return float(np.std(s, ddof=1) / math.sqrt(len(s))) if len(s) > 1 else 0.0
+
+    @property
+    def eligible(self) -> bool:
+        """Converged, and every optional term supported (the base terms never count against it)."""
+        return self.converged and not [t for t in self.unsupported if t not in BASE_TERMS]
+
+
+@dataclass(frozen=True, eq=False)
+class Selection:
+    """What the selection tried and chose (module docstring)."""
+
+    candidates: tuple[CandidateScore, ...]
+    chosen: Structure
+    best: Structure
+    """the eligible candidate of lowest mean held-out error"""
+    threshold: float
+    """the best's mean plus its standard error [effort units]"""
+    folds: int
+    validation_logs: int
+    samples: int
+    """fit samples that took part (all logs)"""
+    delay_s: float
+    """the torque/position offset the selection's fits used [s]"""
+    notes: tuple[str, ...] = field(default=())
+    """what the data support and what they cannot separate, in words"""
+
+    def score_of(self, structure: Structure) -> CandidateScore:
+        return next(c for c in self.candidates if c.structure == structure)
+
+
+def choose(candidates: Sequence[CandidateScore]) -> tuple[CandidateScore, CandidateScore, float]:
+    """(the chosen, the best, the threshold) by the one-standard-error rule among the eligible
+    candidates (module docstring)."""
+    eligible = [c for c in candidates if c.eligible]
+    if not eligible:
+        raise IdentificationError("no candidate structure converged to a fit the data support")
+    best = min(eligible, key=lambda c: c.mean)
+    threshold = best.mean + best.standard_error
+    within = [c for c in eligible if c.mean <= threshold]
+    chosen = min(within, key=lambda c: (c.parameters, c.mean))
+    return chosen, best, threshold
+
+
+class _SelectionData:
+    """The samples every candidate is fitted and scored on: thinned fit samples of the fit logs, labelled
+    by block (0 … FOLDS−1), then those of each validation log (labelled FOLDS, FOLDS+1, …)."""
+
+    def __init__(
+        self,
+        logs: Sequence[PreparedLog],
+        parts: Sequence[np.ndarray],
+        val_logs: Sequence[PreparedLog],
+        val_parts: Sequence[np.ndarray],
+        folds: int,
+    ) -> None:
+        fit_total = sum(p.size for p in parts)
+        step = max(1, math.ceil(fit_total / SELECTION_SAMPLES))
+        self.fit_parts = [p[::step] for p in parts]
+        n_fit = sum(p.size for p in self.fit_parts)
+        if n_fit < 2 * folds:
+            raise IdentificationError(
+                f"{n_fit} fit samples are too few to compare candidates in {folds} folds"
+            )
+        val_step = [max(1, math.ceil(p.size / SELECTION_SAMPLES)) for p in val_parts]
+        self.val_parts = [p[::s] for p, s in zip(val_parts, val_step, strict=True)]
+        self.logs = list(logs) + list(val_logs)
+        self.parts = self.fit_parts + self.val_parts
+        order = np.arange(n_fit)
+        labels = [order * folds // n_fit]  # contiguous blocks in time order (logs in their order)
+        labels += [np.full(p.size, folds + i) for i, p in enumerate(self.val_parts)]
+        self.labels = np.concatenate(labels)
+        self.folds = folds
+        self.fitted = self.labels < folds
+        self.samples = n_fit
+
+
+def select_structure(
+    logs: Sequence[PreparedLog],
+    parts: Sequence[np.ndarray],
+    val_logs: Sequence[PreparedLog],
+    val_parts: Sequence[np.ndarray],
+    nominal: AxisParams,
+    preparation: PreparationSettings,
+    stretch_m: tuple[float, float],
+    stroke_terms: int,
+    cogging_orders: tuple[int, ...] = (),
+    delay_s: float | None = None,
+    folds: int = FOLDS,
+) -> Selection:
+    """Choose the structure of a fit of ``logs`` (samples ``parts``), scored also on ``val_logs``
+    (samples ``val_parts``), by the rule of the module docstring."""
+    data = _SelectionData(logs, parts, val_logs, val_parts, folds)
+    if delay_s is None:
+        richest = Structure(tuple(LAW_TERMS))
+        names, start = fit_plan(richest, nominal)
+        delay_s = estimate_delay(list(logs), data.fit_parts, start, names).value_s
+    run = _Candidates(data, nominal, preparation, stretch_m, delay_s)
+    scores = [run.score(Structure(law)) for law in LAW_CANDIDATES]
+    chosen, _best, _threshold = choose(scores)
+    law = chosen.structure.law
+    if stroke_terms:
+        scores.append(run.score(Structure(law, stroke_terms)))
+    if cogging_orders:
+        scores.append(run.score(Structure(law, 0, cogging_orders)))
+        if stroke_terms:
+            scores.append(run.score(Structure(law, stroke_terms, cogging_orders)))
+    chosen, best, threshold = choose(scores)
+    return Selection(
+        candidates=tuple(scores),
+        chosen=chosen.structure,
+        best=best.structure,
+        threshold=threshold,
+        folds=folds,
+        validation_logs=len(val_logs),
+        samples=data.samples,
+        delay_s=delay_s,
+        notes=tuple(_notes(scores, chosen)),
+    )
+
+
+class _Candidates:
+    """Scores candidate structures on one set of selection samples."""
+
+    def __init__(
+        self,
+        data: _SelectionData,
+        nominal: AxisParams,
+        preparation: PreparationSettings,
+        stretch_m: tuple[float, float],
+        delay_s: float,
+    ) -> None:
+        self.data, self.nominal, self.preparation = data, nominal, preparation
+        self.stretch, self.delay_s = stretch_m, delay_s
+
+    def score(self, structure: Structure) -> CandidateScore:
+        d = self.data
+        names, start = fit_plan(structure, self.nominal)
+        extra = structure.extra
+        columns = [extra.columns(log, self.stretch, self.nominal, self.preparation) for log in d.logs]
+        samples = fit_samples(d.logs, d.parts, self.delay_s, columns if len(extra) else None)
+        problem = FrictionFit(
+            samples.velocity_m_s,
+            samples.acceleration_m_s2,
+            samples.effort_per_force,
+            start,
+            names,
+            extra=samples.extra,
+            extra_names=extra.names,
+            extra_scales=extra.scales(self.nominal),
+        )
+        full = problem.solve(samples.force_n, kept=d.fitted)
+        converged = full.success
+        fold_rms = []
+        for j in range(d.folds):
+            held = d.labels == j
+            fold = problem.solve(samples.force_n, full.values, full.extra_vector, kept=d.fitted & ~held)
+            converged = converged and fold.success
+            fold_rms.append(_rms(fold.residuals[held]))
+        validation_rms = tuple(_rms(full.residuals[d.labels == d.folds + i]) for i in range(len(d.val_parts)))
+        unc = _uncertainty(full, d.fitted)
+        estimates = full.estimates
+        flagged = tuple(f for f in unc.flagged if abs(f[2]) > INSEPARABLE_CORRELATION)
+        return CandidateScore(
+            structure=structure,
+            fold_rms=tuple(fold_rms),
+            validation_rms=validation_rms,
+            estimates=estimates,
+            std=unc.std,
+            condition_number=unc.condition_number,
+            unsupported=unsupported_terms(structure, estimates, unc),
+            flagged=flagged,
+            converged=converged,
+            parameters=len(full.terms),
+        )
+
+
+def _uncertainty(result: FitResult, fitted: np.ndarray) -> Uncertainty:
+    return estimate_uncertainty(
+        result.terms, result.estimates, result.jacobian[fitted], result.residuals[fitted]
+    )
+
+
+def _rms(x: np.ndarray) -> float:
+    return float(np.sqrt(np.mean(x * x))) if x.size else math.nan
+
+
+_PARAMETER_TERM = {"a1": "coulomb", "a2": "viscous", "a3": "atan", "a4": "atan", "M_eq": "inertia"}
+
+
+def _term_of(name: str) -> str:
+    if name in _PARAMETER_TERM:
+        return _PARAMETER_TERM[name]
+    return "cogging" if name.startswith("cog") else "stroke"
+
+
+def _notes(scores: Sequence[CandidateScore], chosen: CandidateScore) -> list[str]:
+    """What the data support and what they cannot separate, in words."""
+    notes = []
+    taken = [t for t in chosen.structure.terms if t not in BASE_TERMS]
+    offered = sorted({t for c in scores for t in c.structure.terms if t not in BASE_TERMS})
+    left = [t for t in offered if t not in taken]
+    notes.append(
+        f"the data support {', '.join(taken) if taken else 'no term'} beyond Coulomb and viscous friction"
+        + (f"; not taken: {', '.join(left)}" if left else "")
+    )
+    for c in scores:
+        for term in c.unsupported:
+            notes.append(f"{c.structure.label}: {term} is not supported (σ larger than its value)")
+    richest = max((c for c in scores if c.converged), key=lambda c: c.parameters, default=None)
+    if richest is not None:
+        seen = set()
+        for a, b, rho in richest.flagged:
+            pair = (_term_of(a), _term_of(b))
+            if pair[0] == pair[1] or pair in seen:
+                continue
+            seen.add(pair)
+            notes.append(
+                f"the data cannot separate {a} ({pair[0]}) from {b} ({pair[1]}): correlation {rho:+.3f} "
+                f"in {richest.structure.label}"
+            )
+    return notes
