@@ -12,14 +12,16 @@ for a carriage joint —, ``unexplained`` {rms_nm, rms_filtered_nm, noise_floor_
 noise_density_nm2_per_hz, floor_band_hz, fit_over_floor, validation_over_floor, peaks_hz
 [{frequency_hz, rms_nm, ratio}], peaks_order [{cycles_per_rev, rms_nm, ratio}], segments,
 order_segments}, ``solver`` {method, status, iterations, time_s}, ``timing_s`` {read, prepare,
-solve (offset searches and fits), judge (errors and residual analyses), total}, ``log`` {paths,
+select (the model selection), solve (offset searches and fits), judge (errors and residual
+analyses), total}, ``log`` {paths,
 topic, joint, joint_kind, samples,
 duration_s, truncated, stamp_jitter_s, window (null: whole logs, else {start_s, end_s, origin_ns}),
 drive (per log: what drove the axis, as its bridge recorded it; null if it did not)}, ``samples`` {total
 (grid points), used, fitted, stationary, saturated, trimmed, non_finite, missing, holes, longest_hole_s,
 near_holes}, ``velocity`` {used, logged, logged_lag_s}, ``uncertainty`` {method, samples,
 effective_samples, flagged}, ``torque_delay_s`` {value, estimated, estimate, std, resolvable, period},
-``preparation`` (the filter and exclusion settings), ``warnings``.
+``preparation`` (the filter and exclusion settings), ``warnings``; ``structure`` and ``selection``
+(:mod:`.selection_report`).
 """
 
 from __future__ import annotations
@@ -34,6 +36,7 @@ from ..model import params_to_toml
 from .fit import PARAMETER_UNITS
 from .preparation import logged_velocity_lag_s
 from .refit import Identification
+from .selection_report import selection_json, selection_markdown, structure_json
 from .signals import JointKind, recorded_drive
 
 SOLVER_METHOD = "CasADi sqpmethod (qrqp QP steps, Gauss–Newton Hessian)"
@@ -59,6 +62,8 @@ def report_json(ident: Identification) -> dict[str, Any]:
         "extra_terms": _extra_terms(ident),
         "correlation": {"names": list(unc.names), "matrix": unc.correlation.round(6).tolist()},
         "condition_number": unc.condition_number,
+        "structure": structure_json(ident),
+        "selection": selection_json(ident),
     }
     for key, stats in ident.errors.items():
         out[key] = stats.to_json(kind)
@@ -260,7 +265,9 @@ def report_markdown(report: dict[str, Any]) -> str:
             )
     if report.get("validation_source"):
         lines += ["", f"Validation: {report['validation_source']}."]
-    lines += _extra_lines(report) + _unexplained_lines(report, unit, key)
+    lines += (
+        _extra_lines(report) + _unexplained_lines(report, unit, key) + selection_markdown(report, unit, key)
+    )
     s, delay, solver = report["samples"], report["torque_delay_s"], report["solver"]
     unc, velocity = report["uncertainty"], report["velocity"]
     if delay["estimated"] and delay["resolvable"]:
@@ -301,7 +308,8 @@ def report_markdown(report: dict[str, Any]) -> str:
     t = report["timing_s"]
     lines += [
         "",
-        f"Timing: read {t['read']:.2f} s, prepare {t['prepare']:.2f} s, solve {t['solve']:.2f} s, "
+        f"Timing: read {t['read']:.2f} s, prepare {t['prepare']:.2f} s, select {t.get('select', 0.0):.2f} s, "
+        f"solve {t['solve']:.2f} s, "
         f"judge {t.get('judge', 0.0):.2f} s, total {t['total']:.2f} s.",
     ]
     return "\n".join(lines) + "\n"
