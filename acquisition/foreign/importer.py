@@ -19,6 +19,7 @@ import, the same reader: no second path for the data).
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import os
 from collections.abc import Sequence
@@ -62,6 +63,14 @@ class ImportResult:
     side: str
     messages: int
     files: tuple[ImportedFile, ...]
+
+    def as_dict(self) -> dict:
+        """The result as JSON-ready data (``axisflow import --json``)."""
+        out = dataclasses.asdict(self)
+        out["path"] = str(self.path)
+        for f in out["files"]:
+            f["source"] = str(f["source"])
+        return out
 
     def describe(self) -> str:
         """One line per file, then what was written."""
