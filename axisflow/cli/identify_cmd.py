@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import os
 import tempfile
@@ -24,6 +25,7 @@ from .column_options import (
 )
 
 if TYPE_CHECKING:
+    from ..identification.refit import IdentifySettings
     from ..model import AxisParams
 
 
@@ -183,6 +185,9 @@ def _state_topic(args: argparse.Namespace, logs: list[str]) -> str:
 def run(args: argparse.Namespace) -> int:
     from ..acquisition.foreign import ForeignLogError, format_of, import_for_reading
     from ..acquisition.logs.reader import check_mcap
+    from ..identification.extra_terms import ExtraTerms
+    from ..identification.refit import IdentifySettings
+    from ..identification.signals import TimeWindow
     from ..identify import REFIT_FILES
     from ..model.files import check_distinct_inputs, check_output_files
 
@@ -199,6 +204,17 @@ def run(args: argparse.Namespace) -> int:
             f"{', '.join(column_options_given(args))} map the columns of .csv, .tsv, .parquet and .mat "
             "logs; these logs are MCAP"
         )
+    settings = IdentifySettings(  # the topic and joint once the logs are read
+        joint_kind=args.joint_kind,
+        fit=tuple(name.strip() for name in args.fit.split(",") if name.strip()),
+        preparation=PreparationSettings(cutoff_hz=args.cutoff),
+        torque_delay_s=args.torque_delay,
+        holdout=args.holdout,
+        window=TimeWindow(args.start, args.end),
+        extra=ExtraTerms(
+            args.stroke_terms, _orders(args.cogging), auto_cogging=args.cogging.strip() == "auto"
+        ),
+    )
     check_distinct_inputs(logs, "log")  # the same samples twice would shrink the uncertainty
     # a bad --out fails before the work, not after it
     out = check_output_files(args.out, REFIT_FILES, inputs=logs, overwrite=args.overwrite)
@@ -209,8 +225,8 @@ def run(args: argparse.Namespace) -> int:
             imported = dict(zip(foreign, read, strict=True))
         fit = [imported.get(log, log) for log in args.logs]
         validate = [imported.get(log, log) for log in args.validate]
-        kinds = {log.side for log in imported.values()}
-        report = _refit(args, nominal, out, fit, validate, kinds.pop() if len(kinds) == 1 else None)
+        sides = {log.side for log in imported.values()}
+        report = _refit(args, settings, nominal, out, fit, validate, sides.pop() if len(sides) == 1 else None)
     if args.json:
         print(json.dumps(report, indent=1))
     else:
@@ -225,35 +241,23 @@ def run(args: argparse.Namespace) -> int:
 
 def _refit(
     args: argparse.Namespace,
+    settings: IdentifySettings,
     nominal: AxisParams,
     out: Path,
     fit: list[str | os.PathLike],
     validate: list[str | os.PathLike],
     imported_side: str | None,
 ) -> dict:
-    """The refit of ``fit`` (validated on ``validate``) written to ``out``; report.json's content.
-    ``imported_side``: the side of the foreign logs among them (the kind of a joint named otherwise)."""
+    """The refit of ``fit`` (validated on ``validate``) written to ``out``; report.json's content. The
+    topic and joint are chosen here, from the logs; ``imported_side``: the side of the foreign logs
+    among them (the kind of a joint they name otherwise)."""
     from ..acquisition.logs.joint_topics import choose_joint
-    from ..identification.extra_terms import ExtraTerms
-    from ..identification.refit import IdentifySettings
-    from ..identification.signals import TimeWindow
     from ..identify import identify_to
 
     logs = [*fit, *validate]
     topic = _state_topic(args, logs)
     joint = args.joint if args.joint is not None else choose_joint(logs, topic, DEFAULT_JOINT)
-    settings = IdentifySettings(
-        topic=topic,
-        joint=joint,
-        joint_kind=args.joint_kind if args.joint_kind is not None else imported_side,
-        fit=tuple(name.strip() for name in args.fit.split(",") if name.strip()),
-        preparation=PreparationSettings(cutoff_hz=args.cutoff),
-        torque_delay_s=args.torque_delay,
-        holdout=args.holdout,
-        window=TimeWindow(args.start, args.end),
-        extra=ExtraTerms(
-            args.stroke_terms, _orders(args.cogging), auto_cogging=args.cogging.strip() == "auto"
-        ),
-    )
-    _ident, report = identify_to(out, fit, nominal, settings, validate=validate)
+    kind = settings.joint_kind if settings.joint_kind is not None else imported_side
+    chosen = dataclasses.replace(settings, topic=topic, joint=joint, joint_kind=kind)
+    _ident, report = identify_to(out, fit, nominal, chosen, validate=validate)
     return report
