@@ -74,29 +74,42 @@ def _content_lines(text: str) -> list[tuple[int, str]]:
     return out
 
 
+def _numeric_tail(rows: list[list[str]], decimal: str) -> int:
+    """How many of the last ``rows`` are numbers, as many as the last row has."""
+    width, k = len(rows[-1]), len(rows)
+    while k > 0 and len(rows[k - 1]) == width and all(_is_number(f, decimal) for f in rows[k - 1]):
+        k -= 1
+    return len(rows) - k
+
+
 def _sniff(path: Path, lines: list[str], options: CsvOptions) -> tuple[str, str]:
-    """(delimiter, decimal mark) that split ``lines`` (the last lines of the file) into one number of
-    numbers each."""
+    """(delimiter, decimal mark) that split the most of ``lines`` (the last lines of the file) into
+    one number of numbers each (two or more, unless no delimiter does); ties go to the earlier
+    delimiter of :data:`DELIMITERS`."""
     delimiters = (options.delimiter,) if options.delimiter is not None else DELIMITERS
-    for delimiter in delimiters:
-        decimals = (options.decimal,) if options.decimal else ((".",) if delimiter == "," else (",", "."))
-        rows = [_split(line, delimiter) for line in lines]
-        widths = {len(row) for row in rows}
-        if len(widths) != 1 or (widths == {1} and options.delimiter is None and delimiter != " "):
-            continue
-        for decimal in decimals:
-            if all(_is_number(f, decimal) for row in rows for f in row):
-                uses_comma = decimal == "," and any("," in f for row in rows for f in row)
-                return delimiter, "," if uses_comma or options.decimal == "," else "."
+    best: tuple[int, str, str] | None = None  # (rows, delimiter, decimal)
+    for wide in (True, False):
+        for delimiter in delimiters:
+            decimals = (options.decimal,) if options.decimal else ((".",) if delimiter == "," else (",", "."))
+            rows = [_split(line, delimiter) for line in lines]
+            if wide and len(rows[-1]) < 2:
+                continue
+            for decimal in decimals:
+                n = _numeric_tail(rows, decimal)
+                if n and (best is None or n > best[0]):
+                    uses_comma = decimal == "," and any("," in f for row in rows[-n:] for f in row)
+                    best = (n, delimiter, "," if uses_comma or options.decimal == "," else ".")
+        if best is not None:
+            return best[1], best[2]
     if options.delimiter is not None:
         shown = {"\t": "tab", " ": "space"}.get(options.delimiter, repr(options.delimiter))
         raise ForeignLogError(
-            f"{path}: its last {len(lines)} lines do not split at {shown} into the same number of "
-            "numbers: check the delimiter (and the decimal mark)"
+            f"{path}: its last line does not split at {shown} into numbers: check the delimiter (and "
+            "the decimal mark)"
         )
     raise ForeignLogError(
-        f"{path}: cannot tell its delimiter from its last {len(lines)} lines (tried tab, ';', ',', '|', "
-        "spaces): give the delimiter"
+        f"{path}: cannot tell its delimiter from its last lines (tried tab, ';', ',', '|', spaces): its "
+        "last line is not a row of numbers"
     )
 
 
