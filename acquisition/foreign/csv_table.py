@@ -135,7 +135,7 @@ def read_csv(path: Path, options: CsvOptions) -> ForeignTable:
         k for k, row in enumerate(rows) if len(row) == width and all(_is_number(f, decimal) for f in row)
     )
     _check_data(path, lines, rows, first, width, decimal)
-    header = []
+    header: list[list[str]] = []
     k = first - 1
     while k >= 0 and len(rows[k]) == width:
         header.insert(0, rows[k])

@@ -7,8 +7,9 @@ import dataclasses
 import json
 import os
 import tempfile
+from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 from ..acquisition.wire.keys import DEFAULT_PREFIX
 from ..arguments import add_params_option, finite_float, non_negative_int, params_from_args
@@ -161,7 +162,7 @@ def _orders(text: str) -> tuple[int, ...]:
     return tuple(orders)
 
 
-def _state_topic(args: argparse.Namespace, logs: list[str]) -> str:
+def _state_topic(args: argparse.Namespace, logs: Sequence[str | Path]) -> str:
     """The JointState topic to fit: ``--topic``, else the state topic of ``--axis`` (or of the logs'
     only axis) in every log; in logs without any axis of ours, their only JointState topic (several
     are refused with their list); logs without any keep the default topic, whose reading then says
@@ -254,10 +255,13 @@ def _refit(
     from ..acquisition.logs.joint_topics import choose_joint
     from ..identify import identify_to
 
-    logs = [*fit, *validate]
+    # an ImportedLog is a path-like, not a Path: everything below opens its logs through os.fspath
+    # (the temporary MCAP) and names them through str (the file the user gave)
+    fit_paths, validate_paths = cast("list[str | Path]", fit), cast("list[str | Path]", validate)
+    logs = [*fit_paths, *validate_paths]
     topic = _state_topic(args, logs)
     joint = args.joint if args.joint is not None else choose_joint(logs, topic, DEFAULT_JOINT)
     kind = settings.joint_kind if settings.joint_kind is not None else imported_side
     chosen = dataclasses.replace(settings, topic=topic, joint=joint, joint_kind=kind)
-    _ident, report = identify_to(out, fit, nominal, chosen, validate=validate)
+    _ident, report = identify_to(out, fit_paths, nominal, chosen, validate=validate_paths)
     return report
