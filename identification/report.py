@@ -21,7 +21,7 @@ drive (per log: what drove the axis, as its bridge recorded it; null if it did n
 near_holes}, ``velocity`` {used, logged, logged_lag_s}, ``uncertainty`` {method, samples,
 effective_samples, flagged}, ``torque_delay_s`` {value, estimated, estimate, std, resolvable, period},
 ``preparation`` (the filter and exclusion settings), ``warnings``; ``structure`` and ``selection``
-(:mod:`.selection_report`).
+(:mod:`.selection_report`); ``effort_table`` {file, rows} (:mod:`.effort_table`).
 """
 
 from __future__ import annotations
@@ -33,6 +33,7 @@ from typing import Any
 import numpy as np
 
 from ..model import params_to_toml
+from .effort_table import EFFORT_TABLE
 from .fit import PARAMETER_UNITS
 from .preparation import logged_velocity_lag_s
 from .refit import Identification
@@ -62,6 +63,10 @@ def report_json(ident: Identification) -> dict[str, Any]:
         "extra_terms": _extra_terms(ident),
         "correlation": {"names": list(unc.names), "matrix": unc.correlation.round(6).tolist()},
         "condition_number": unc.condition_number,
+        "effort_table": {
+            "file": EFFORT_TABLE,
+            "rows": sum(log.signals.t_s.size for log in logs + ident.validation_logs),
+        },
         "structure": structure_json(ident),
         "selection": selection_json(ident),
     }
@@ -305,6 +310,13 @@ def report_markdown(report: dict[str, Any]) -> str:
         lines.append(f"Correlated (|ρ| > 0.8): {pairs}.")
     if report["warnings"]:
         lines += ["", "## Warnings", ""] + [f"- {w}" for w in report["warnings"]]
+    table = report.get("effort_table")
+    if table:
+        lines += [
+            "",
+            f"Every sample's kinematics, measured and model force and each term's share: {table['file']} "
+            f"({table['rows']} rows; pandas, polars or duckdb read it).",
+        ]
     t = report["timing_s"]
     lines += [
         "",

@@ -38,9 +38,10 @@ def register(sub: argparse._SubParsersAction) -> None:
         "ROS 2 recording; a log of one JointState topic of one joint needs neither --topic nor --joint), "
         "or from .csv, .tsv, .parquet and .mat files through the importer of `axisflow import` with "
         "the same column options, estimate velocity and acceleration by zero-phase filtering, fit M_eq and "
-        "a1…a4 of eq. (1) by CasADi's SQP so that model effort matches the measured one, and write "
-        "DIR/params.toml (a complete parameter file), DIR/report.json, DIR/report.md and DIR/fit.png "
-        "(together, atomically; existing ones only with --overwrite). A chunk of a log that cannot be "
+        "a1…a4 of eq. (1) by CasADi's SQP so that model effort matches the measured one (the terms the "
+        "data support: --terms), and write DIR/params.toml (a complete parameter file), DIR/report.json, "
+        "DIR/report.md, DIR/fit.png and DIR/effort.parquet (the fit per sample) (together, atomically; "
+        "existing ones only with --overwrite). A chunk of a log that cannot be "
         "read is skipped and named; its samples count as missing, never fitted across.",
     )
     p.add_argument(
@@ -81,10 +82,20 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="what a joint of another name measures: the motor (rad, rad/s, N·m) or the carriage (m, m/s, N)",
     )
     p.add_argument(
+        "--terms",
+        default="auto",
+        metavar="auto",
+        choices=("auto",),
+        help="auto (default): choose the terms the data support — candidate structures (the atan term; "
+        "then the stroke terms and given cogging orders) compared on held-out blocks of the logs, the "
+        "simplest within one standard error of the best (docs/identification.md)",
+    )
+    p.add_argument(
         "--fit",
-        default=",".join(PARAMETERS),
+        default=None,
         metavar="NAMES",
-        help=f"comma-separated parameters to fit (default {','.join(PARAMETERS)}); the others stay nominal",
+        help=f"comma-separated parameters to fit instead (of {','.join(PARAMETERS)}), with the stroke and "
+        "cogging terms as given: no selection; the others stay nominal",
     )
     group = p.add_mutually_exclusive_group()
     group.add_argument(
@@ -207,7 +218,8 @@ def run(args: argparse.Namespace) -> int:
         )
     settings = IdentifySettings(  # the topic and joint once the logs are read
         joint_kind=args.joint_kind,
-        fit=tuple(name.strip() for name in args.fit.split(",") if name.strip()),
+        fit=PARAMETERS if args.fit is None else tuple(n.strip() for n in args.fit.split(",") if n.strip()),
+        select=args.fit is None and args.terms == "auto",
         preparation=PreparationSettings(cutoff_hz=args.cutoff),
         torque_delay_s=args.torque_delay,
         holdout=args.holdout,
@@ -234,9 +246,8 @@ def run(args: argparse.Namespace) -> int:
         from ..identification.report import report_markdown
 
         print(report_markdown(report), end="")
-        print(
-            f"\nwrote {out / 'params.toml'}, {out / 'report.json'}, {out / 'report.md'} and {out / 'fit.png'}"
-        )
+        written = ", ".join(str(out / name) for name in REFIT_FILES[:-1])
+        print(f"\nwrote {written} and {out / REFIT_FILES[-1]}")
     return 0
 
 
