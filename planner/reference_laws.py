@@ -44,7 +44,7 @@ import numpy as np
 
 from ..model import AxisParams, EnergyAccounting, MoveError, forward_friction
 from ..model.deadline import Deadline, iteration_cap
-from ..model.encoder import encoder_resolution_m
+from ..model.encoder import axis_resolution_m
 from .errors import InfeasibleMoveError
 from .problem import DEFAULT_OMEGA, DEFAULT_TIME_BOUNDS_S, DEFAULT_W0, REFERENCE_LAWS, Case
 
@@ -228,7 +228,7 @@ def time_optimal(distance_m: float, params: AxisParams) -> ReferenceProfile:
         raise MoveError(f"distance_m = {distance_m} m is not finite")
     if D > params.L * (1 + 1e-12):
         raise MoveError(f"distance_m = {distance_m} m is longer than the stroke L = {params.L} m")
-    if encoder_resolution_m(params.r) > D:  # a zero move
+    if axis_resolution_m(params) > D:  # a zero move
         D = 0.0
     return _time_optimal(D, params)
 

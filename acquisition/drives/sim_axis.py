@@ -59,7 +59,7 @@ from pathlib import Path
 import numpy as np
 
 from ...model import EXECUTION_PERIOD_NS, EXECUTION_PERIOD_S, AxisParams, stop_profile
-from ...model.encoder import encoder_resolution_m
+from ...model.encoder import axis_resolution_m
 from ..errors import PlantError
 from ..wire.messages import AxisSample
 from .drive import READY, AlwaysReady, DriveStatus, Setpoint
@@ -127,7 +127,7 @@ class SimulatedAxis(AlwaysReady):
         self._rigid = plant.rigid
         if self._rigid:
             self._mech: RigidAxis | BeltAxis = RigidAxis(p, plant.simulation.substeps, x0)
-            self._m_per_count = encoder_resolution_m(p.r, plant.encoder.counts_per_rev)
+            self._m_per_count = axis_resolution_m(p, plant.encoder.counts_per_rev)
             self._alpha_v = 1.0 - math.exp(
                 -2.0 * math.pi * plant.encoder.velocity_filter_hz * EXECUTION_PERIOD_S
             )
@@ -277,7 +277,7 @@ class _DriveSignals:
         self._m_per_count = (
             self.units.metres_per_count
             if self.units is not None
-            else encoder_resolution_m(plant.axis.r, plant.encoder.counts_per_rev)
+            else axis_resolution_m(plant.axis, plant.encoder.counts_per_rev)
         )
         filter_hz = drive.velocity_filter_hz if drive is not None else plant.encoder.velocity_filter_hz
         self._alpha_v = 1.0 - math.exp(-2.0 * math.pi * filter_hz * EXECUTION_PERIOD_S)
