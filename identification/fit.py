@@ -39,27 +39,51 @@ if TYPE_CHECKING:
     from ..model import AxisParams
 
 PARAMETERS: tuple[str, ...] = ("M_eq", "a1", "a2", "a3", "a4")
-"""what a refit may estimate, in report order"""
-PARAMETER_UNITS = {"M_eq": "kg", "a1": "N", "a2": "N·s/m", "a3": "N", "a4": "s/m"}
+"""eq. (1)'s parameters: what a refit estimates by default (``--fit``), in report order"""
+LAW_EXTRA: tuple[str, ...] = ("f0", "da1", "da2")
+"""the friction law's terms beside eq. (1) (offset, asymmetry: :mod:`axisflow.model.terms`)"""
+FIT_PARAMETERS: tuple[str, ...] = PARAMETERS + LAW_EXTRA
+"""everything a refit may estimate, in report order"""
+PARAMETER_UNITS = {
+    "M_eq": "kg",
+    "a1": "N",
+    "a2": "N·s/m",
+    "a3": "N",
+    "a4": "s/m",
+    "f0": "N",
+    "da1": "N",
+    "da2": "N·s/m",
+}
+_SIGNED = frozenset(LAW_EXTRA)
+"""parameters of either sign (no lower bound in the fit)"""
 DEFAULT_MAX_ITER = 50
 
 
 @dataclass(frozen=True)
 class FrictionValues:
-    """The five model parameters of eq. (1) a fit works with (SI units)."""
+    """The model parameters a fit works with (SI units): eq. (1)'s five and the friction law's terms
+    beside it (zero: off)."""
 
     M_eq: float
     a1: float
     a2: float
     a3: float
     a4: float
+    f0: float = 0.0
+    da1: float = 0.0
+    da2: float = 0.0
 
     @classmethod
     def of(cls, params: AxisParams) -> FrictionValues:
-        return cls(params.M_eq, params.a1, params.a2, params.a3, params.a4)
+        return cls(params.M_eq, params.a1, params.a2, params.a3, params.a4, params.f0, params.da1, params.da2)
 
     def as_dict(self) -> dict[str, float]:
-        return {name: getattr(self, name) for name in PARAMETERS}
+        """eq. (1)'s five values and those of the law's other terms that are on (non-zero)."""
+        return {n: getattr(self, n) for n in FIT_PARAMETERS if n in PARAMETERS or getattr(self, n)}
+
+    def every_value(self) -> dict[str, float]:
+        """Every parameter's value, by name (:data:`FIT_PARAMETERS`)."""
+        return {name: getattr(self, name) for name in FIT_PARAMETERS}
 
     def force_n(self, velocity_m_s: np.ndarray, acceleration_m_s2: np.ndarray) -> np.ndarray:
         """eq. (1): M_eq·ẍ + F_c(ẋ) [N]."""
@@ -94,7 +118,7 @@ class FitResult:
     @property
     def estimates(self) -> dict[str, float]:
         """The value of every term, by name."""
-        values = self.values.as_dict()
+        values = self.values.every_value()
         return {name: values[name] for name in self.fitted} | self.extra
 
     @property
@@ -107,14 +131,20 @@ class FitResult:
 
 
 def check_fit_names(names: tuple[str, ...] | list[str]) -> tuple[str, ...]:
-    """The parameters to fit, validated, in :data:`PARAMETERS` order."""
-    unknown = [n for n in names if n not in PARAMETERS]
+    """The parameters to fit, validated, in :data:`FIT_PARAMETERS` order (f0 and da1 never together:
+    while the axis moves both are a constant per direction, :mod:`axisflow.model.friction`)."""
+    unknown = [n for n in names if n not in FIT_PARAMETERS]
     if unknown or not names:
         raise IdentificationError(
             f"--fit {','.join(names)!s}: {'unknown ' + ', '.join(unknown) if unknown else 'nothing to fit'}; "
-            f"choose from {', '.join(PARAMETERS)}"
+            f"choose from {', '.join(FIT_PARAMETERS)}"
         )
-    return tuple(n for n in PARAMETERS if n in names)
+    if "f0" in names and "da1" in names:
+        raise IdentificationError(
+            f"--fit {','.join(names)}: f0 and da1 cannot both be fitted (moving, each is a constant force "
+            "per direction): give one of them in the parameter file and fit the other"
+        )
+    return tuple(n for n in FIT_PARAMETERS if n in names)
 
 
 class FrictionFit:
@@ -146,13 +176,11 @@ class FrictionFit:
                 f"extra terms: {columns.shape} columns for {n_samples} samples and {len(extra_names)} names"
             )
         self.extra_names = tuple(extra_names)
-        start = self.initial.as_dict()
-        self._scale = np.array(
-            [max(abs(start[n]), 1e-3) for n in self.names] + list(extra_scales), dtype=float
-        )
+        start = self.initial.every_value()
+        self._scale = np.array([_scale(n, start) for n in self.names] + list(extra_scales), dtype=float)
         n_vars = len(self.names) + len(self.extra_names)
         theta = ca.MX.sym("theta", n_vars)
-        value = {n: start[n] for n in PARAMETERS}
+        value = {n: start[n] for n in FIT_PARAMETERS}
         for i, n in enumerate(self.names):
             value[n] = theta[i] * self._scale[i]
         force = ca.MX.sym("force", n_samples)
@@ -161,7 +189,15 @@ class FrictionFit:
         v, a = ca.DM(velocity_m_s), ca.DM(acceleration_m_s2)
         sign_v = ca.DM(np.sign(velocity_m_s))
         k = effort_per_force
-        friction = friction_expression(v, sign_v, value["a1"], value["a2"], value["a3"], value["a4"], ca.atan)
+        friction = friction_expression(
+            v,
+            sign_v,
+            *(value[n] for n in ("a1", "a2", "a3", "a4")),
+            ca.atan,
+            value["f0"],
+            value["da1"],
+            value["da2"],
+        )
         residual = k * (force - value["M_eq"] * a - friction)
         if self.extra_names:
             beta = theta[len(self.names) :] * ca.DM(self._scale[len(self.names) :])
@@ -170,9 +206,20 @@ class FrictionFit:
         jac = ca.jacobian(residual, theta)
         lam_f = ca.MX.sym("lam_f")
         data = ca.vertcat(force, sigma, kept)
+        # each direction's friction stays ≥ 0 (a ± da ≥ 0) where an asymmetry is fitted: linear in θ
+        sides = [
+            value[a] + s * value[d]
+            for a, d in (("a1", "da1"), ("a2", "da2"))
+            if d in self.names
+            for s in (1, -1)
+        ]
+        g = ca.vertcat(*sides) if sides else ca.MX(0, 1)
+        self._g_jacobian = np.array(
+            ca.Function("g_jacobian", [theta], [ca.jacobian(g, theta)])(np.zeros(n_vars))
+        )
         hess_lag = ca.Function(
             "gauss_newton",
-            [theta, data, lam_f, ca.MX.sym("lam_g", 0)],
+            [theta, data, lam_f, ca.MX.sym("lam_g", len(sides))],
             [lam_f * weight * ca.mtimes(jac.T, ca.mtimes(ca.diag(kept), jac))],
             ["x", "p", "lam_f", "lam_g"],
             ["hess_gamma_x_x"],
@@ -180,7 +227,7 @@ class FrictionFit:
         self._solver = ca.nlpsol(
             "friction_fit",
             "sqpmethod",
-            {"x": theta, "p": data, "f": 0.5 * weight * ca.dot(kept, residual * residual)},
+            {"x": theta, "p": data, "f": 0.5 * weight * ca.dot(kept, residual * residual), "g": g},
             {
                 "qpsol": "qrqp",
                 "qpsol_options": {"print_iter": False, "print_header": False, "error_on_fail": False},
@@ -196,7 +243,8 @@ class FrictionFit:
         )
         self._evaluate = ca.Function("residual_and_jacobian", [theta, force], [residual, jac])
         self._lower = np.array(
-            [1e-6 if name == "M_eq" else 0.0 for name in self.names] + [-np.inf] * len(self.extra_names)
+            [1e-6 if name == "M_eq" else -np.inf if name in _SIGNED else 0.0 for name in self.names]
+            + [-np.inf] * len(self.extra_names)
         )
         self._k = k
 
@@ -215,20 +263,24 @@ class FrictionFit:
         if not mask.any():
             raise IdentificationError("no sample is kept for the fit")
         sigma = float(np.sqrt(np.mean((self._k * np.asarray(force_n)[mask]) ** 2))) or 1.0
-        first = (start or self.initial).as_dict()
+        first = (start or self.initial).every_value()
         beta0 = (
             np.zeros(len(self.extra_names)) if start_extra is None else np.asarray(start_extra, dtype=float)
         )
         x0 = np.r_[[first[n] for n in self.names], beta0] / self._scale
         t0 = time.perf_counter()
-        solution = self._solver(x0=x0, lbx=self._lower, p=np.r_[force_n, sigma, mask.astype(float)])
+        solution = self._solver(
+            x0=x0, lbx=self._lower, lbg=0.0, ubg=np.inf, p=np.r_[force_n, sigma, mask.astype(float)]
+        )
         elapsed = time.perf_counter() - t0
         stats = self._solver.stats()
         # the QP steps may end a hair outside a bound (−1e-13): the bound is the value
         theta_opt = np.maximum(np.array(solution["x"]).ravel(), self._lower)
-        found = self.initial.as_dict()
+        found = self.initial.every_value()
         for i, name in enumerate(self.names):
             found[name] = float(theta_opt[i] * self._scale[i])
+        for a, d in (("a1", "da1"), ("a2", "da2")):  # and a hair outside a ± da ≥ 0 is on it
+            found[d] = float(np.clip(found[d], -found[a], found[a]))
         offset = len(self.names)
         extra = {
             n: float(theta_opt[offset + j] * self._scale[offset + j]) for j, n in enumerate(self.extra_names)
@@ -241,6 +293,8 @@ class FrictionFit:
             # the QP step fell below the step tolerance: converged if the point is stationary (KKT with
             # the bounds) for the normalised objective, to 1e-7
             grad = jac_theta[mask].T @ residuals[mask] / (sigma * sigma * np.count_nonzero(mask))
+            if self._g_jacobian.size:  # the Lagrangian's gradient: the constraints' multipliers added
+                grad = grad + self._g_jacobian.T @ np.array(solution["lam_g"]).ravel()
             at_bound = theta_opt <= self._lower + 1e-12
             success = bool(np.all(np.where(at_bound, grad >= -1e-7, np.abs(grad) <= 1e-7)))
         return FitResult(
@@ -255,6 +309,14 @@ class FrictionFit:
             jacobian=jac_theta / self._scale,  # per unit of each parameter, not of θ
             extra=extra,
         )
+
+
+def _scale(name: str, start: dict[str, float]) -> float:
+    """The typical size of a parameter (the fit's variable scaling): its starting value, or for a term
+    that starts at zero a twentieth of the friction it sits beside (a1 for f0 and da1, a2 for da2)."""
+    beside = {"f0": "a1", "da1": "a1", "da2": "a2"}.get(name)
+    floor = 0.05 * abs(start[beside]) if beside else 0.0
+    return max(abs(start[name]), floor, 1e-3)
 
 
 def fit_parameters(

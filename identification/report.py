@@ -46,7 +46,7 @@ SOLVER_METHOD = "CasADi sqpmethod (qrqp QP steps, Gauss–Newton Hessian)"
 def report_json(ident: Identification) -> dict[str, Any]:
     """The JSON record of a refit (keys in the module docstring)."""
     fit, unc, kind = ident.fit, ident.uncertainty, ident.kind
-    values, initial = fit.values.as_dict(), fit.initial.as_dict()
+    values, initial = fit.values.every_value(), fit.initial.every_value()
     logs = ident.logs
     used = sum(int(log.usable.sum()) for log in logs)
     out: dict[str, Any] = {

@@ -3,7 +3,7 @@ least_squares on the same residuals, and the bounds."""
 
 import numpy as np
 import pytest
-from axisflow.identification.fit import FitSamples, FrictionFit, FrictionValues, fit_parameters
+from axisflow.identification.fit import PARAMETERS, FitSamples, FrictionFit, FrictionValues, fit_parameters
 from axisflow.identification.uncertainty import effective_sample_size, estimate_uncertainty
 from axisflow.model import default_params
 from scipy.optimize import least_squares
@@ -39,9 +39,9 @@ def test_agrees_with_scipy_least_squares_on_the_same_residuals():
         values = FrictionValues(*p)
         return K * (samples.force_n - values.force_n(samples.velocity_m_s, samples.acceleration_m_s2))
 
-    start = list(FrictionValues.of(NOMINAL).as_dict().values())
+    start = [getattr(NOMINAL, n) for n in PARAMETERS]  # eq. (1)'s five: the fit's default
     ref = least_squares(residuals, start, bounds=(0.0, np.inf), x_scale=np.abs(start), xtol=1e-14, ftol=1e-14)
-    assert list(result.values.as_dict().values()) == pytest.approx(ref.x, rel=1e-6)
+    assert [getattr(result.values, n) for n in PARAMETERS] == pytest.approx(ref.x, rel=1e-6)
 
 
 def test_the_bounds_hold_when_the_data_want_a_negative_coefficient():
