@@ -39,7 +39,15 @@ from .extra_terms import DEFAULT_STROKE_TERMS, ExtraTerms, TermColumns, covered_
 from .fit import PARAMETERS, FitResult, FrictionValues, WindowFit, check_fit_names, fit_window
 from .preparation import PreparationSettings, PreparedLog, fit_indices, fit_samples, prepare
 from .residuals import ResidualAnalysis, analyse_residuals, analysed_span
-from .selection import Selection, Structure, fit_plan, select_structure, unsupported_terms
+from .selection import (
+    BASE_TERMS,
+    Selection,
+    Structure,
+    fit_plan,
+    select_structure,
+    unsupported_terms,
+    without_terms,
+)
 from .signals import DEFAULT_JOINT, DEFAULT_TOPIC, JointKind, TimeWindow, joint_kind, load_joint
 from .uncertainty import Uncertainty
 
@@ -234,9 +242,9 @@ def identify(
     dropped: tuple[str, ...] = ()
     if structure is not None:
         dropped = unsupported_terms(structure, ident.fit.estimates, ident.uncertainty)
-        dropped = tuple(t for t in dropped if t in ("atan", "stroke", "cogging"))
+        dropped = tuple(t for t in dropped if t not in BASE_TERMS)
         if dropped:
-            structure = _without(structure, dropped)
+            structure = without_terms(structure, dropped)
             ident = run.fit(dataclasses.replace(ident.extra, **_extra_of(structure)), structure)
     t_end = time.perf_counter()
     return dataclasses.replace(
@@ -280,13 +288,6 @@ def _select(run: _FitPass, s: IdentifySettings) -> Selection:
         s.extra.cogging_orders,
         s.torque_delay_s,
     )
-
-
-def _without(structure: Structure, terms: tuple[str, ...]) -> Structure:
-    law = tuple(t for t in structure.law if t not in terms)
-    stroke = 0 if "stroke" in terms else structure.stroke_terms
-    cogging = () if "cogging" in terms else structure.cogging_orders
-    return Structure(law, stroke, cogging)
 
 
 def _extra_of(structure: Structure) -> dict[str, object]:

@@ -1,12 +1,18 @@
 """Which terms a log supports: candidate structures compared on held-out data (``identify --terms auto``).
 
-A *structure* is the set of terms a fit takes in: Coulomb and viscous friction (always, with M_eq),
-then optionally the terms of :data:`LAW_TERMS`, the Coulomb friction along the stroke and cogging
-(:mod:`.extra_terms`). Fitting all 2ⁿ sets would be slow and pointless; the candidates are:
+A *structure* is the set of terms a fit takes in (their names: :mod:`axisflow.model.terms`): Coulomb
+and viscous friction (always, with M_eq), then optionally the friction law's ``offset``, ``asymmetry``
+and ``atan``, the Coulomb friction along the stroke and cogging (:mod:`.extra_terms`). Fitting all 2ⁿ
+sets would be slow and pointless; the candidates are:
 
-1. **the friction law's structures** (:data:`LAW_CANDIDATES`), nested the way a drive's friction is
-   built up: the base alone, + the paper's atan term, + a constant force, + both, + a viscous
-   asymmetry, + all;
+1. **the friction law's structures** (:func:`law_candidates`), built up the way a drive's friction
+   is: the base alone, + the paper's atan term, + a constant force f0, + both, + an asymmetry, + all;
+   and each candidate with a term the data do not support (below) is tried again without it.
+   The asymmetry is the viscous one (da2) while f0 is fitted: moving, a Coulomb asymmetry da1 and f0
+   are the same constant per direction, and no log tells them apart. When the parameter file gives
+   f0 (gravity on a known incline, say), f0 stays at its value in every candidate, the offset is no
+   candidate, and the asymmetry is both da1 and da2. A term a candidate does not take in is off
+   (zero), never left at the nominal axis's value;
 2. then the best of those (by the rule below) **with the stroke terms** (``--stroke-terms K`` > 0)
    and **with the cogging orders** given (``--cogging ORDERS``). Cogging orders found in a residual
    (``--cogging auto``) are taken in afterwards, on the chosen structure (:mod:`.refit`), as before.
@@ -50,6 +56,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..model.terms import TERMS
 from .alignment import estimate_delay
 from .errors import IdentificationError
 from .extra_terms import ExtraTerms
@@ -62,10 +69,24 @@ if TYPE_CHECKING:
 
 BASE_TERMS = ("coulomb", "viscous")
 """the terms every structure has (with the inertia M_eq)"""
-LAW_TERMS = ("atan",)
+LAW_TERMS = ("offset", "asymmetry", "atan")
 """the friction law's optional terms, in the order a structure lists them"""
-LAW_CANDIDATES: tuple[tuple[str, ...], ...] = ((), ("atan",))
-"""the friction law's structures the selection tries (stage 1)"""
+
+
+def law_candidates(offset_given: bool) -> tuple[tuple[str, ...], ...]:
+    """The friction law's structures the selection tries (stage 1; module docstring)."""
+    if offset_given:
+        return ((), ("atan",), ("asymmetry",), ("asymmetry", "atan"))
+    return (
+        (),
+        ("atan",),
+        ("offset",),
+        ("offset", "atan"),
+        ("offset", "asymmetry"),
+        ("offset", "asymmetry", "atan"),
+    )
+
+
 FOLDS = 5
 SELECTION_SAMPLES = 5000
 """at most this many fit samples (of all logs) take part in the selection"""
@@ -102,19 +123,42 @@ class Structure:
         return ExtraTerms(self.stroke_terms, self.cogging_orders)
 
 
+def offset_given(nominal: AxisParams) -> bool:
+    """Whether the parameter file gives the constant force f0 (then it is held, and da1 may be fitted)."""
+    return "offset" in nominal.terms
+
+
 def fit_plan(structure: Structure, nominal: AxisParams) -> tuple[tuple[str, ...], AxisParams]:
-    """The parameters a fit of ``structure`` estimates, and the parameters it starts from (the terms it
-    does not take in switched off there: a3 = 0 without the atan term)."""
-    names = ("M_eq", "a1", "a2") + (("a3", "a4") if "atan" in structure.law else ())
-    start = nominal if "atan" in structure.law else nominal.replace(a3=0.0)
-    return names, start
+    """The parameters a fit of ``structure`` estimates, and the parameters it starts from: the terms
+    it does not take in are off there (zero), but for a constant force the file gives, which is held."""
+    given = offset_given(nominal)
+    law = structure.law
+    names = ["M_eq", "a1", "a2"]
+    if "offset" in law and not given:
+        names.append("f0")
+    if "asymmetry" in law:
+        names += ["da1", "da2"] if given else ["da2"]
+    if "atan" in law:
+        names += ["a3", "a4"]
+    off: dict[str, float] = {}
+    if "atan" not in law:
+        off.update(a3=0.0, a4=0.0)
+    if "offset" not in law and not given:
+        off["f0"] = 0.0
+    if "asymmetry" not in law:
+        off.update(da1=0.0, da2=0.0)
+    elif not given:
+        off["da1"] = 0.0
+    return tuple(names), nominal.replace(**off) if off else nominal
 
 
-def term_parameters(structure: Structure) -> dict[str, tuple[str, ...]]:
-    """Each term of ``structure`` and the names of the parameters (or coefficients) that make it."""
-    out: dict[str, tuple[str, ...]] = {"coulomb": ("a1",), "viscous": ("a2",)}
-    if "atan" in structure.law:
-        out["atan"] = ("a3", "a4")
+def term_parameters(structure: Structure, fitted: tuple[str, ...]) -> dict[str, tuple[str, ...]]:
+    """Each term of ``structure`` and the names of its parameters (or coefficients) among ``fitted``."""
+    out: dict[str, tuple[str, ...]] = {}
+    for term in BASE_TERMS + structure.law:
+        names = tuple(n for n in TERMS[term].parameters if n in fitted)
+        if names:
+            out[term] = names
     extra = structure.extra.names
     if structure.stroke_terms:
         out["stroke"] = tuple(n for n in extra if not n.startswith("cog"))
@@ -130,7 +174,7 @@ PER_PARAMETER_TERMS = ("atan",)
 def unsupported_terms(structure: Structure, estimates: dict[str, float], unc: Uncertainty) -> tuple[str, ...]:
     """The terms of ``structure`` whose σ is larger than their value (module docstring)."""
     out = []
-    for term, names in term_parameters(structure).items():
+    for term, names in term_parameters(structure, unc.names).items():
         if term in PER_PARAMETER_TERMS or len(names) == 1:
             if any(unc.std[n] > abs(estimates[n]) for n in names):
                 out.append(term)
@@ -269,20 +313,20 @@ def select_structure(
     """Choose the structure of a fit of ``logs`` (samples ``parts``), scored also on ``val_logs``
     (samples ``val_parts``), by the rule of the module docstring."""
     data = _SelectionData(logs, parts, val_logs, val_parts, folds)
+    candidates = law_candidates(offset_given(nominal))
     if delay_s is None:
-        richest = Structure(tuple(LAW_TERMS))
-        names, start = fit_plan(richest, nominal)
+        names, start = fit_plan(Structure(candidates[-1]), nominal)
         delay_s = estimate_delay(list(logs), data.fit_parts, start, names).value_s
     run = _Candidates(data, nominal, preparation, stretch_m, delay_s)
-    scores = [run.score(Structure(law)) for law in LAW_CANDIDATES]
+    scores = run.scores([Structure(law) for law in candidates])
     chosen, _best, _threshold = choose(scores)
     law = chosen.structure.law
-    if stroke_terms:
-        scores.append(run.score(Structure(law, stroke_terms)))
+    stage2 = [Structure(law, stroke_terms)] if stroke_terms else []
     if cogging_orders:
-        scores.append(run.score(Structure(law, 0, cogging_orders)))
+        stage2.append(Structure(law, 0, cogging_orders))
         if stroke_terms:
-            scores.append(run.score(Structure(law, stroke_terms, cogging_orders)))
+            stage2.append(Structure(law, stroke_terms, cogging_orders))
+    scores += run.scores(stage2, scores)
     chosen, best, threshold = choose(scores)
     return Selection(
         candidates=tuple(scores),
@@ -293,8 +337,16 @@ def select_structure(
         validation_logs=len(val_logs),
         samples=data.samples,
         delay_s=delay_s,
-        notes=tuple(_notes(scores, chosen)),
+        notes=tuple(_notes(scores, chosen, offset_given(nominal))),
     )
+
+
+def without_terms(structure: Structure, terms: Sequence[str]) -> Structure:
+    """``structure`` with ``terms`` (optional ones: law terms, ``stroke``, ``cogging``) taken out."""
+    law = tuple(t for t in structure.law if t not in terms)
+    stroke = 0 if "stroke" in terms else structure.stroke_terms
+    cogging = () if "cogging" in terms else structure.cogging_orders
+    return Structure(law, stroke, cogging)
 
 
 class _Candidates:
@@ -310,6 +362,26 @@ class _Candidates:
     ) -> None:
         self.data, self.nominal, self.preparation = data, nominal, preparation
         self.stretch, self.delay_s = stretch_m, delay_s
+
+    def scores(
+        self, structures: Sequence[Structure], done: Sequence[CandidateScore] = ()
+    ) -> list[CandidateScore]:
+        """The scores of ``structures`` and, for each with unsupported optional terms, of the structure
+        without them (the selection drops a term the data do not support), each structure once."""
+        seen = {c.structure for c in done}
+        out: list[CandidateScore] = []
+        queue = list(structures)
+        while queue:
+            structure = queue.pop(0)
+            if structure in seen:
+                continue
+            seen.add(structure)
+            score = self.score(structure)
+            out.append(score)
+            dropped = [t for t in score.unsupported if t not in BASE_TERMS]
+            if dropped:
+                queue.append(without_terms(structure, dropped))
+        return out
 
     def score(self, structure: Structure) -> CandidateScore:
         d = self.data
@@ -363,16 +435,15 @@ def _rms(x: np.ndarray) -> float:
     return float(np.sqrt(np.mean(x * x))) if x.size else math.nan
 
 
-_PARAMETER_TERM = {"a1": "coulomb", "a2": "viscous", "a3": "atan", "a4": "atan", "M_eq": "inertia"}
-
-
 def _term_of(name: str) -> str:
-    if name in _PARAMETER_TERM:
-        return _PARAMETER_TERM[name]
-    return "cogging" if name.startswith("cog") else "stroke"
+    """The term a parameter (or coefficient) belongs to (``inertia`` for M_eq)."""
+    if name == "M_eq":
+        return "inertia"
+    law = next((t.name for t in TERMS.values() if name in t.parameters), None)
+    return law or ("cogging" if name.startswith("cog") else "stroke")
 
 
-def _notes(scores: Sequence[CandidateScore], chosen: CandidateScore) -> list[str]:
+def _notes(scores: Sequence[CandidateScore], chosen: CandidateScore, given: bool) -> list[str]:
     """What the data support and what they cannot separate, in words."""
     notes = []
     taken = [t for t in chosen.structure.terms if t not in BASE_TERMS]
@@ -385,6 +456,14 @@ def _notes(scores: Sequence[CandidateScore], chosen: CandidateScore) -> list[str
     for c in scores:
         for term in c.unsupported:
             notes.append(f"{c.structure.label}: {term} is not supported (σ larger than its value)")
+    if given:
+        notes.append("f0 is the parameter file's (held); the asymmetry is Coulomb (da1) and viscous (da2)")
+    else:
+        notes.append(
+            "a Coulomb asymmetry da1 is not fitted beside f0: while the axis moves both are the same "
+            "constant force per direction; give f0 in the parameter file (e.g. gravity on a known incline) "
+            "to fit da1"
+        )
     richest = max((c for c in scores if c.converged), key=lambda c: c.parameters, default=None)
     if richest is not None:
         seen = set()
