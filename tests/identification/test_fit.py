@@ -3,6 +3,7 @@ least_squares on the same residuals, and the bounds."""
 
 import numpy as np
 import pytest
+from axisflow.identification.errors import IdentificationError
 from axisflow.identification.fit import PARAMETERS, FitSamples, FrictionFit, FrictionValues, fit_parameters
 from axisflow.identification.uncertainty import effective_sample_size, estimate_uncertainty
 from axisflow.model import default_params
@@ -124,3 +125,23 @@ def test_held_out_samples_are_scored_not_fitted():
     assert held.residuals.size == n  # every sample's error, the held-out ones too
     model = held.values.force_n(samples.velocity_m_s[~kept], samples.acceleration_m_s2[~kept])
     assert held.residuals[~kept] == pytest.approx(K * (samples.force_n[~kept] - model), abs=1e-12)
+
+
+def test_an_offset_and_a_viscous_asymmetry_are_found_and_each_directions_friction_stays_positive():
+    true = FrictionValues(M_eq=115.0, a1=81.0, a2=193.0, a3=216.0, a4=10.2, f0=-12.0, da2=40.0)
+    samples = _samples(values=true, seed=4)
+    result = fit_parameters(samples, NOMINAL, fit=("M_eq", "a1", "a2", "a3", "a4", "f0", "da2"))
+    assert result.success
+    for name in ("M_eq", "a1", "a2", "f0", "da2"):
+        assert getattr(result.values, name) == pytest.approx(getattr(true, name), rel=1e-2), name
+    # friction of the +x direction that the data want below zero: held at zero, not fitted through it
+    lopsided = FrictionValues(M_eq=115.0, a1=81.0, a2=20.0, a3=216.0, a4=10.2, da2=-60.0)
+    held = fit_parameters(
+        _samples(values=lopsided, seed=6), NOMINAL, fit=("M_eq", "a1", "a2", "a3", "a4", "da2")
+    )
+    assert held.values.a2 + held.values.da2 >= 0.0 and held.values.a2 - held.values.da2 >= 0.0
+
+
+def test_f0_and_da1_are_never_fitted_together():
+    with pytest.raises(IdentificationError, match="f0 and da1 cannot both be fitted"):
+        fit_parameters(_samples(), NOMINAL, fit=("M_eq", "a1", "f0", "da1"))
