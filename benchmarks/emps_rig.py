@@ -266,29 +266,9 @@ RIG_JOINT = "carriage"
 def write_mcap(path: str | Path, log: RigLog, topic: str = RIG_TOPIC, joint: str = RIG_JOINT) -> Path:
     """``log`` as a JointState MCAP by axisflow's writer (ROS 2 profile): one topic, one joint (m, N),
     empty velocity arrays; written atomically."""
-    from ..acquisition.logs.joint_state_layout import JointStateLayout
-    from ..acquisition.logs.mcap_writer import Ros2McapWriter
-    from ..acquisition.wire.messages import JOINT_STATE_TYPE, JointState
-    from ..model.files import atomic_path
+    from .foreign_log import write_joint_log
 
-    out = Path(path)
-    layout, template = JointStateLayout.for_message(JointState(0, "emps", (joint,), (0.0,), (), (0.0,)))
-    rows = layout.encode(
-        template,
-        log.stamp_ns,
-        log.position_m[:, None],
-        np.empty((log.stamp_ns.size, 0)),
-        log.force_n[:, None],
-    )
-    with atomic_path(out) as part:
-        writer = Ros2McapWriter(part)
-        try:
-            channel = writer.channel_for(topic, JOINT_STATE_TYPE)
-            for i, stamp in enumerate(log.stamp_ns.tolist()):
-                writer.add(channel, stamp, stamp, i + 1, rows[i].tobytes())
-        finally:
-            writer.finish()
-    return out
+    return write_joint_log(path, log.stamp_ns, log.position_m, log.force_n, joint, topic)
 
 
 def write_csv(path: str | Path, log: RigLog) -> Path:
