@@ -114,7 +114,8 @@ def _sniff(path: Path, lines: list[str], options: CsvOptions) -> tuple[str, str]
 
 
 def _is_units_row(fields: list[str]) -> bool:
-    units = [split_unit(f"x [{f.strip().strip('[]()')}]")[1] or "" for f in fields]
+    """Whether a header row holds units: short fields (``s``, ``[mm]``, empty), one of them a known unit."""
+    units = [f.strip().strip("[]()").strip() for f in fields]
     return all(len(u) <= 12 for u in units) and any(u in _KNOWN_UNITS for u in units)
 
 

@@ -56,7 +56,8 @@ class JointSamples:
     rows: int
     """rows of the file's data"""
     units: dict[str, str]
-    """the unit each signal was read in (time, position, velocity, effort), for the record"""
+    """the unit each signal was read in (time, position, velocity, effort; the effort's with its scale,
+    ``V × 35.15``), for the record"""
 
     def __len__(self) -> int:
         return len(self.stamp_ns)
@@ -78,6 +79,8 @@ class _Mapping:
         self.names: dict[str, str] = {}
         self.values: dict[str, np.ndarray] = {}
         self.units: dict[str, SignalUnit] = {}
+        self.scale_note = ""
+        """how the effort was scaled, for the record (`` × 35.15``)"""
         signals = {
             "time": cmap.time,
             "position": cmap.position,
@@ -142,6 +145,8 @@ class _Mapping:
                 f"{self.table.path}: effort {self.names['effort']!r} in {unit.name} is not a force: give a "
                 f"scale ({per} per {unit.name}, a number or a scalar of the file)"
             )
+        if scale is not None:
+            self.scale_note = f" × {float(scale):g}"
         return self.values["effort"].astype(np.float64) * (
             unit.si_per_unit * (1.0 if scale is None else float(scale))
         )
@@ -171,7 +176,7 @@ def joint_samples(table: ForeignTable, cmap: ColumnMap) -> JointSamples:
         effort=None if effort is None else effort[keep],
         dropped=int(n - np.count_nonzero(keep)),
         rows=n,
-        units={what: u.name for what, u in m.units.items()},
+        units={what: u.name + (m.scale_note if what == "effort" else "") for what, u in m.units.items()},
     )
 
 
