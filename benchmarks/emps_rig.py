@@ -271,6 +271,22 @@ def write_mcap(path: str | Path, log: RigLog, topic: str = RIG_TOPIC, joint: str
     return write_joint_log(path, log.stamp_ns, log.position_m, log.force_n, joint, topic)
 
 
+def write_imported(folder: str | Path, name: str, log: RigLog) -> Path:
+    """``log`` the way a user brings a real rig's log: a scope-like CSV (:func:`write_csv`) imported by
+    ``axisflow import``'s library function (time ``t`` [s], position ``qm`` [m], effort ``vir`` [V] ×
+    gtau) into ``folder/name.mcap``: one JointState topic, joint ``carriage``, no velocity."""
+    from ..acquisition.foreign import ColumnMap, Signal, import_logs
+
+    csv = write_csv(Path(folder) / f"{name}.csv", log)
+    cmap = ColumnMap(
+        time=Signal("t", "s"),
+        position=Signal("qm", "m"),
+        effort=Signal("vir", "V"),
+        effort_scale=GTAU_N_PER_V,
+    )
+    return import_logs([csv], cmap, Path(folder) / f"{name}.mcap").path
+
+
 def write_csv(path: str | Path, log: RigLog) -> Path:
     """``log`` as a scope-like CSV: time [s], qm [m] and vir [V] (the force is gtau·vir), written
     atomically."""

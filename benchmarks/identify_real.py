@@ -18,8 +18,9 @@ Rows:
    :data:`TRUE_MODEL_RATIO` × the error of the TRUE model on the same validation log.
 2. **The EMPS-like rig** (:mod:`.emps_rig`: the published facts of a real ball-screw axis under
    closed-loop control, its measured friction curve, position and force only; a fit and a validation
-   log with different programs). The issue's criterion: identify's held-out error below the textbook
-   fit's.
+   log with different programs, each a scope-like CSV of t, qm and vir brought in by ``axisflow
+   import``'s importer with the force = gtau × vir). The issue's criterion: identify's held-out
+   error below the textbook fit's.
 
 Every row's held-out error is the issue's measure (:func:`.textbook_fit.relative_force_error`:
 ‖F − F̂‖/‖F‖ through a 100 Hz zero-phase filter, over the moving samples), for identify's model, the
@@ -177,9 +178,9 @@ def _law_force(params: Any, log: PreparedLog) -> np.ndarray:
 def emps_row(folder: Path, laps: int, seed: int) -> dict[str, Any]:
     from . import emps_rig as rig
 
-    fit = rig.write_mcap(folder / "emps-fit.mcap", rig.simulate(rig.RigSpec(laps=laps, seed=seed)))
+    fit = rig.write_imported(folder, "emps-fit", rig.simulate(rig.RigSpec(laps=laps, seed=seed)))
     validation = rig.simulate(rig.RigSpec(program=rig.VALIDATION_PROGRAM, laps=laps, seed=seed + 1))
-    val = rig.write_mcap(folder / "emps-validation.mcap", validation)
+    val = rig.write_imported(folder, "emps-validation", validation)
 
     def true_model(log: PreparedLog) -> np.ndarray:
         v = log.velocity_m_s
