@@ -71,7 +71,8 @@ class IdentifySettings:
     shows: :func:`auto_cogging_orders`)"""
     select: bool = True
     """choose the terms by the data (``--terms auto``, :mod:`.selection`): ``extra`` then offers the
-    stroke terms and cogging orders as candidates; False: fit ``fit`` and ``extra`` as they are"""
+    stroke terms as a candidate, and its cogging orders join the chosen structure (kept if the final
+    fit supports them); False: fit ``fit`` and ``extra`` as they are"""
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "fit", check_fit_names(tuple(self.fit)))
@@ -231,7 +232,9 @@ def identify(
     run = _FitPass(s, nominal, logs, val_logs, fit_keep, val_keep, parts)
     selection = _select(run, s) if s.select else None
     t_select = time.perf_counter()
-    structure = selection.chosen if selection else None
+    structure = None  # with the selection: its choice, and the cogging orders given
+    if selection is not None:
+        structure = dataclasses.replace(selection.chosen, cogging_orders=s.extra.cogging_orders)
     extra = s.extra if structure is None else dataclasses.replace(s.extra, **_extra_of(structure))
     ident = run.fit(extra, structure)
     found = auto_cogging_orders(ident.residuals, ident.extra) if s.extra.auto_cogging else ()
@@ -285,7 +288,6 @@ def _select(run: _FitPass, s: IdentifySettings) -> Selection:
         s.preparation,
         run.stretch,
         s.extra.stroke_terms,
-        s.extra.cogging_orders,
         s.torque_delay_s,
     )
 

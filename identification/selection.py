@@ -13,18 +13,27 @@ sets would be slow and pointless; the candidates are:
    f0 (gravity on a known incline, say), f0 stays at its value in every candidate, the offset is no
    candidate, and the asymmetry is both da1 and da2. A term a candidate does not take in is off
    (zero), never left at the nominal axis's value;
-2. then the best of those (by the rule below) **with the stroke terms** (``--stroke-terms K`` > 0)
-   and **with the cogging orders** given (``--cogging ORDERS``). Cogging orders found in a residual
-   (``--cogging auto``) are taken in afterwards, on the chosen structure (:mod:`.refit`), as before.
+2. then the best of those (by the rule below) **with the stroke terms** (``--stroke-terms K`` > 0).
+
+Cogging is no candidate here: the orders given (``--cogging ORDERS``) and those a first fit's residual
+shows (``--cogging auto``) are taken in on the chosen structure (:mod:`.refit`), and dropped again if
+the final fit does not support them (the σ rule below).
 
 Each candidate is scored by **time-blocked cross-validation**: the fit samples of the logs, in time
-order, are cut into :data:`FOLDS` contiguous blocks; the candidate is fitted on all blocks but one
-and its effort error (RMS, measured minus model, through the fit's filter) is measured on the block
-left out, for each block in turn. A contiguous block keeps the neighbours of a held-out sample out
-of the fit (the filtered signals are correlated over tens of milliseconds: a random split would
-score the fit on samples it has nearly seen). With ``--validate`` logs, the candidate fitted on every
-block is also scored on each validation log, which counts as one more held-out score. The scores'
-mean and standard error (sd/√n) are the candidate's held-out error.
+order, are cut into contiguous blocks, which are dealt to :data:`FOLDS` folds in turn (block i to
+fold i mod k: up to :data:`BLOCKS_PER_FOLD` blocks a fold, each at least :data:`MIN_BLOCK_S` of
+the log); the candidate is fitted on all folds but one and its effort error (RMS, measured minus
+model, through the fit's filter) is measured on the fold left out, for each fold in turn. Contiguous
+blocks keep the neighbours of a held-out sample out of the fit (the filtered signals are correlated
+over tens of milliseconds: a random split would score the fit on samples it has nearly seen); dealing
+several blocks to each fold lets every fold's fit see every part of the log's program (all speeds,
+the whole stretch of the stroke), so that a term that depends on where the cart is, the stroke's, is
+scored on what it models and not on extrapolating to a stretch its fit never saw. With
+``--validate`` logs, the candidate fitted on every fold is also scored on each validation log, which
+counts as one more held-out score. The scores' mean and standard error (sd/√n) are the candidate's
+held-out error. (A validation log with another program also catches what no split of one log can:
+a term that fits a coincidence the whole log repeats, such as a speed tied to a place on the
+stroke.)
 
 **The one-standard-error rule** (Hastie, Tibshirani and Friedman, *The Elements of Statistical
 Learning*, 2nd ed., §7.10): among the candidates whose terms the data support (below), the one of
@@ -88,6 +97,10 @@ def law_candidates(offset_given: bool) -> tuple[tuple[str, ...], ...]:
 
 
 FOLDS = 5
+BLOCKS_PER_FOLD = 4
+MIN_BLOCK_S = 2.0
+"""a cross-validation block spans at least this much of the logs [s] (the residuals' correlation is
+a fraction of a second)"""
 SELECTION_SAMPLES = 5000
 """at most this many fit samples (of all logs) take part in the selection"""
 RULE = "one-standard-error rule over time-blocked cross-validation"
@@ -288,8 +301,13 @@ class _SelectionData:
         self.val_parts = [p[::s] for p, s in zip(val_parts, val_step, strict=True)]
         self.logs = list(logs) + list(val_logs)
         self.parts = self.fit_parts + self.val_parts
-        order = np.arange(n_fit)
-        labels = [order * folds // n_fit]  # contiguous blocks in time order (logs in their order)
+        span_s = sum(
+            float(np.ptp(log.signals.t_s[p])) for log, p in zip(logs, self.fit_parts, strict=True) if p.size
+        )
+        per_fold = min(BLOCKS_PER_FOLD, max(1, int(span_s / (folds * MIN_BLOCK_S))))
+        blocks = folds * per_fold
+        order = np.arange(n_fit)  # the samples in time order (logs in their order)
+        labels = [(order * blocks // n_fit) % folds]  # contiguous blocks dealt to the folds in turn
         labels += [np.full(p.size, folds + i) for i, p in enumerate(self.val_parts)]
         self.labels = np.concatenate(labels)
         self.folds = folds
@@ -306,7 +324,6 @@ def select_structure(
     preparation: PreparationSettings,
     stretch_m: tuple[float, float],
     stroke_terms: int,
-    cogging_orders: tuple[int, ...] = (),
     delay_s: float | None = None,
     folds: int = FOLDS,
 ) -> Selection:
@@ -321,12 +338,7 @@ def select_structure(
     scores = run.scores([Structure(law) for law in candidates])
     chosen, _best, _threshold = choose(scores)
     law = chosen.structure.law
-    stage2 = [Structure(law, stroke_terms)] if stroke_terms else []
-    if cogging_orders:
-        stage2.append(Structure(law, 0, cogging_orders))
-        if stroke_terms:
-            stage2.append(Structure(law, stroke_terms, cogging_orders))
-    scores += run.scores(stage2, scores)
+    scores += run.scores([Structure(law, stroke_terms)] if stroke_terms else [], scores)
     chosen, best, threshold = choose(scores)
     return Selection(
         candidates=tuple(scores),

@@ -86,9 +86,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         default="auto",
         metavar="auto",
         choices=("auto",),
-        help="auto (default): choose the terms the data support — candidate structures (the atan term; "
-        "then the stroke terms and given cogging orders) compared on held-out blocks of the logs, the "
-        "simplest within one standard error of the best (docs/identification.md)",
+        help="auto (default): choose the terms the data support: candidate structures (the friction "
+        "law's offset, asymmetry and atan terms, then the stroke terms) compared on held-out blocks of "
+        "the logs and on --validate logs, the simplest within one standard error of the best; cogging "
+        "orders (given or found) join the chosen one; a term whose σ exceeds its value is dropped "
+        "(docs/identification.md)",
     )
     p.add_argument(
         "--fit",
