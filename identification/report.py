@@ -246,10 +246,9 @@ def report_markdown(report: dict[str, Any]) -> str:
         "|---|---:|---:|---:|---:|",
     ]
     for name, p in report["parameters"].items():
-        change = (p["value"] - p["initial"]) / p["initial"] * 100.0 if p["initial"] else math.nan
+        change = f"{(p['value'] - p['initial']) / p['initial'] * 100.0:+.2f} %" if p["initial"] else "–"
         lines.append(
-            f"| {name} [{p['unit']}] | {p['value']:.6g} | {p['std']:.3g} | {p['initial']:.6g} "
-            f"| {change:+.2f} % |"
+            f"| {name} [{p['unit']}] | {p['value']:.6g} | {p['std']:.3g} | {p['initial']:.6g} | {change} |"
         )
     lines += [
         "",

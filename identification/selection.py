@@ -465,9 +465,13 @@ def _notes(scores: Sequence[CandidateScore], chosen: CandidateScore, given: bool
         f"the data support {', '.join(taken) if taken else 'no term'} beyond Coulomb and viscous friction"
         + (f"; not taken: {', '.join(left)}" if left else "")
     )
+    where: dict[str, list[str]] = {}
     for c in scores:
         for term in c.unsupported:
-            notes.append(f"{c.structure.label}: {term} is not supported (σ larger than its value)")
+            where.setdefault(term, []).append(c.structure.label)
+    for term, labels in where.items():
+        action = "reported" if term in BASE_TERMS else "each tried again without it"
+        notes.append(f"{term} is not supported (σ larger than its value) in {', '.join(labels)} ({action})")
     if given:
         notes.append("f0 is the parameter file's (held); the asymmetry is Coulomb (da1) and viscous (da2)")
     else:
