@@ -43,6 +43,8 @@ if TYPE_CHECKING:
 EFFORT_TABLE = "effort.parquet"
 ROW_GROUP = 500_000
 STATUS = ("fitted", "held_out", "left_out")
+LABELS = ("log", "role", "status", "reason")
+"""the table's label columns (dictionary-encoded)"""
 
 _LAW_SHARES = {"coulomb": ("a1",), "viscous": ("a2",), "atan": ("a3", "a4")}
 """each friction term's parameters: its share is the law with the others at zero"""
@@ -75,7 +77,11 @@ def write_effort_table(path: str | Path, ident: Identification) -> int:
             table = pa.table(batch)
             if writer is None:
                 metadata = {b"effort_per_force": str(ident.logs[0].signals.effort_per_force).encode()}
-                writer = pq.ParquetWriter(str(path), table.schema.with_metadata(metadata))
+                # dictionary pages for the labels only: on the float columns they cost 4× the time of
+                # the whole write and save a fifth of the size
+                writer = pq.ParquetWriter(
+                    str(path), table.schema.with_metadata(metadata), use_dictionary=list(LABELS)
+                )
             writer.write_table(table, row_group_size=ROW_GROUP)
             rows += table.num_rows
     finally:
