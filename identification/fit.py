@@ -3,10 +3,12 @@
 With the prepared samples (ẋ_k, ẍ_k, F_k: filtered, decimated; :mod:`.preparation`) and k_e the joint's
 effort per cart force (r/i_r for a motor joint), the residuals and the problem are
 
-    e_k(p) = k_e·(F_k − M_eq·ẍ_k − F_c(ẋ_k; a1, a2, a3, a4) − X_k·β),   F_c of :mod:`axisflow.model.friction`
-    min_p  ½·Σ_k (e_k/σ_e)²  s.t.  a1 … a4 ≥ 0,  M_eq > 0,
+    e_k(p) = k_e·(F_k − M_eq·ẍ_k − F_c(ẋ_k; p) − X_k·β),   F_c of :mod:`axisflow.model.friction`
+    min_p  ½·Σ_k (e_k/σ_e)²  s.t.  a1 … a4 ≥ 0,  M_eq > 0  (f0, da1, da2 of either sign),
 
-over the parameters chosen with ``fit`` (the rest stay at their nominal values) and the coefficients β
+F_c with every term of the law (f0 + a1·sign ẋ + da1·|sign ẋ| + a2·ẋ + da2·|ẋ| + a3·atan(a4·ẋ)), over
+the parameters chosen with ``fit`` (the rest stay at their start values: zero for a term that is off,
+:mod:`.fit_terms` decides) and the coefficients β
 of any extra linear terms X (:mod:`.extra_terms`: friction along the stroke, cogging; unbounded), σ_e
 the RMS of the measured effort (so the objective starts near 1). The variables are scaled,
 p_i = θ_i·|p_i,nominal| (β by the terms' typical sizes); the solve starts from the nominal values, or
@@ -38,25 +40,41 @@ from .uncertainty import Uncertainty, estimate_uncertainty
 if TYPE_CHECKING:
     from ..model import AxisParams
 
-PARAMETERS: tuple[str, ...] = ("M_eq", "a1", "a2", "a3", "a4")
-"""what a refit may estimate, in report order"""
-PARAMETER_UNITS = {"M_eq": "kg", "a1": "N", "a2": "N·s/m", "a3": "N", "a4": "s/m"}
+PARAMETERS: tuple[str, ...] = ("M_eq", "a1", "a2", "a3", "a4", "f0", "da1", "da2")
+"""what a refit may estimate, in report order (the paper's five first)"""
+PARAMETER_UNITS = {
+    "M_eq": "kg",
+    "a1": "N",
+    "a2": "N·s/m",
+    "a3": "N",
+    "a4": "s/m",
+    "f0": "N",
+    "da1": "N",
+    "da2": "N·s/m",
+}
+PAPER_PARAMETERS: tuple[str, ...] = PARAMETERS[:5]
+"""eq. (1)'s parameters: M_eq and a1…a4 (what a fit estimates unless told otherwise)"""
+SIGNED_PARAMETERS = frozenset({"f0", "da1", "da2"})
+"""the parameters of either sign (no lower bound in the fit)"""
 DEFAULT_MAX_ITER = 50
 
 
 @dataclass(frozen=True)
 class FrictionValues:
-    """The five model parameters of eq. (1) a fit works with (SI units)."""
+    """The model parameters a fit works with (SI units): M_eq and the friction law's."""
 
     M_eq: float
     a1: float
     a2: float
     a3: float
     a4: float
+    f0: float = 0.0
+    da1: float = 0.0
+    da2: float = 0.0
 
     @classmethod
     def of(cls, params: AxisParams) -> FrictionValues:
-        return cls(params.M_eq, params.a1, params.a2, params.a3, params.a4)
+        return cls(params.M_eq, params.a1, params.a2, params.a3, params.a4, params.f0, params.da1, params.da2)
 
     def as_dict(self) -> dict[str, float]:
         return {name: getattr(self, name) for name in PARAMETERS}
@@ -127,7 +145,7 @@ class FrictionFit:
         acceleration_m_s2: np.ndarray,
         effort_per_force: float,
         nominal: AxisParams,
-        fit: tuple[str, ...] = PARAMETERS,
+        fit: tuple[str, ...] = PAPER_PARAMETERS,
         max_iter: int = DEFAULT_MAX_ITER,
         extra: np.ndarray | None = None,
         extra_names: tuple[str, ...] = (),
@@ -147,8 +165,12 @@ class FrictionFit:
             )
         self.extra_names = tuple(extra_names)
         start = self.initial.as_dict()
+        # a start of zero (a term switched on from nothing) is scaled by the friction's size
+        typical = max(abs(start["a1"]), abs(start["a3"]), 1.0)
         self._scale = np.array(
-            [max(abs(start[n]), 1e-3) for n in self.names] + list(extra_scales), dtype=float
+            [max(abs(start[n]), 0.05 * typical if n in SIGNED_PARAMETERS else 1e-3) for n in self.names]
+            + list(extra_scales),
+            dtype=float,
         )
         n_vars = len(self.names) + len(self.extra_names)
         theta = ca.MX.sym("theta", n_vars)
@@ -160,7 +182,18 @@ class FrictionFit:
         v, a = ca.DM(velocity_m_s), ca.DM(acceleration_m_s2)
         sign_v = ca.DM(np.sign(velocity_m_s))
         k = effort_per_force
-        friction = friction_expression(v, sign_v, value["a1"], value["a2"], value["a3"], value["a4"], ca.atan)
+        friction = friction_expression(
+            v,
+            sign_v,
+            value["a1"],
+            value["a2"],
+            value["a3"],
+            value["a4"],
+            ca.atan,
+            f0=value["f0"],
+            da1=value["da1"],
+            da2=value["da2"],
+        )
         residual = k * (force - value["M_eq"] * a - friction)
         if self.extra_names:
             beta = theta[len(self.names) :] * ca.DM(self._scale[len(self.names) :])
@@ -195,8 +228,10 @@ class FrictionFit:
         )
         self._evaluate = ca.Function("residual_and_jacobian", [theta, force], [residual, jac])
         self._lower = np.array(
-            [1e-6 if name == "M_eq" else 0.0 for name in self.names] + [-np.inf] * len(self.extra_names)
+            [1e-6 if name == "M_eq" else -np.inf if name in SIGNED_PARAMETERS else 0.0 for name in self.names]
+            + [-np.inf] * len(self.extra_names)
         )
+
         self._k = k
 
     def solve(
@@ -249,7 +284,7 @@ class FrictionFit:
 def fit_parameters(
     samples: FitSamples,
     nominal: AxisParams,
-    fit: tuple[str, ...] = PARAMETERS,
+    fit: tuple[str, ...] = PAPER_PARAMETERS,
     max_iter: int = DEFAULT_MAX_ITER,
 ) -> FitResult:
     """Estimate the ``fit`` parameters from ``samples`` starting at ``nominal`` (see the module doc)."""
@@ -294,7 +329,7 @@ class WindowFit:
 def fit_window(
     samples: FitSamples,
     nominal: AxisParams,
-    fit: tuple[str, ...] = PARAMETERS,
+    fit: tuple[str, ...] = PAPER_PARAMETERS,
     start: FitResult | None = None,
     extra_names: tuple[str, ...] = (),
     extra_scales: tuple[float, ...] = (),

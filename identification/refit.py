@@ -33,10 +33,12 @@ from pathlib import Path
 import numpy as np
 
 from ..model import AxisParams, ParameterError
+from ..model.terms import canonical_terms
 from .alignment import DelayEstimate, estimate_delay
 from .errors import IdentificationError
 from .extra_terms import DEFAULT_STROKE_TERMS, ExtraTerms, TermColumns, covered_stretch
-from .fit import PARAMETERS, FitResult, FrictionValues, WindowFit, check_fit_names, fit_window
+from .fit import SIGNED_PARAMETERS, FitResult, FrictionValues, WindowFit, check_fit_names, fit_window
+from .fit_terms import FitChoice, choose_parameters
 from .preparation import PreparationSettings, PreparedLog, fit_indices, fit_samples, prepare
 from .residuals import ResidualAnalysis, analyse_residuals, analysed_span
 from .signals import DEFAULT_JOINT, DEFAULT_TOPIC, JointKind, TimeWindow, joint_kind, load_joint
@@ -49,7 +51,14 @@ class IdentifySettings:
     joint: str = DEFAULT_JOINT
     joint_kind: str | None = None
     """motor or carriage; None: from the joint's name"""
-    fit: tuple[str, ...] = PARAMETERS
+    fit: tuple[str, ...] | None = None
+    """the parameters to fit (:data:`~.fit.PARAMETERS` names); None: every parameter of the terms
+    that are on (:mod:`.fit_terms`)"""
+    terms: tuple[str, ...] | None = None
+    """the friction law's terms that are on (:mod:`axisflow.model.terms` names); None: the parameter
+    file's (:mod:`.fit_terms`)"""
+    given: frozenset[str] | None = None
+    """the keys the user's own parameter file gives; None: every nominal value is the user's own"""
     preparation: PreparationSettings = field(default_factory=PreparationSettings)
     torque_delay_s: float | None = None
     """the torque/position offset [s]; None: estimated"""
@@ -62,7 +71,10 @@ class IdentifySettings:
     shows: :func:`auto_cogging_orders`)"""
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "fit", check_fit_names(tuple(self.fit)))
+        if self.fit is not None:
+            object.__setattr__(self, "fit", check_fit_names(tuple(self.fit)))
+        if self.terms is not None:
+            object.__setattr__(self, "terms", canonical_terms(tuple(self.terms)))
         if not (math.isfinite(self.holdout) and 0.0 <= self.holdout < 0.9):
             raise IdentificationError(f"holdout = {self.holdout} must be a fraction in [0, 0.9)")
         if self.torque_delay_s is not None and not abs(self.torque_delay_s) <= 0.1:
@@ -120,6 +132,16 @@ class Identification:
     timing_s: dict[str, float]
     cogging_found: tuple[int, ...] = ()
     """cogging orders the first pass's residual showed and the fit then took in (``--cogging auto``)"""
+    choice: FitChoice | None = None
+    """the terms on, the parameters fitted and held (:mod:`.fit_terms`)"""
+
+    @property
+    def at_bound(self) -> tuple[str, ...]:
+        """Fitted friction parameters stuck at their lower bound 0 (a1…a4): the log does not support
+        the term, or the model lacks another one; the report says so."""
+        values = self.fit.values.as_dict()
+        bounded = [n for n in self.fit.fitted if n not in SIGNED_PARAMETERS and n != "M_eq"]
+        return tuple(n for n in bounded if values[n] <= 0.0)
 
     @property
     def fit(self) -> FitResult:
@@ -201,6 +223,9 @@ def identify(
     s = settings or IdentifySettings()
     if s.holdout and validate:
         raise IdentificationError("give either validation logs or a holdout fraction, not both")
+    choice = choose_parameters(nominal, s.terms, s.fit, s.given)
+    nominal = choice.start
+    s = dataclasses.replace(s, fit=choice.fitted, terms=choice.terms)
     t0 = time.perf_counter()
     kind = joint_kind(s.joint, s.joint_kind)
     signals = [load_joint(p, s.topic, s.joint, nominal, kind.value, s.window) for p in paths]
@@ -221,6 +246,7 @@ def identify(
     t_end = time.perf_counter()
     return dataclasses.replace(
         ident,
+        choice=choice,
         cogging_found=found,
         timing_s={
             "read": t_read - t0,
@@ -285,11 +311,11 @@ class _FitPass:
         names, scales = extra.names, extra.scales(nominal)
         delay = None
         if s.torque_delay_s is None:
-            delay = estimate_delay(logs, parts, nominal, s.fit, columns, names, scales)
+            delay = estimate_delay(logs, parts, nominal, s.fit or (), columns, names, scales)
         delay_s = delay.value_s if delay is not None else s.torque_delay_s
         assert delay_s is not None
         samples = fit_samples(logs, parts, delay_s, columns)
-        window_fit = fit_window(samples, nominal, s.fit, extra_names=names, extra_scales=scales)
+        window_fit = fit_window(samples, nominal, s.fit or (), extra_names=names, extra_scales=scales)
         if not window_fit.success:
             result = window_fit.result
             raise IdentificationError(
@@ -359,7 +385,7 @@ def _residuals(ident: Identification, fit_keep: list[np.ndarray] | None) -> Resi
         idx = np.arange(end)
         model = ident.model_force(log, ident.columns[i], idx=idx)
         raw.append(k * (np.interp(t[:end] + ident.delay_s, t, log.signals.force_n) - model))
-        angle.append(log.signals.position_m[:end] * ident.nominal.i_r / ident.nominal.r)
+        angle.append(log.signals.position_m[:end] * ident.nominal.transmission.radians_per_metre)
     spectral = [mask[:end] for mask, end in zip(spectral, spans, strict=True)]
     p = ident.settings.preparation
     return analyse_residuals(raw, spectral, angle, rate, p.cutoff_hz, p.order)

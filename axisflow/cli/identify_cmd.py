@@ -12,6 +12,7 @@ from ..identification.extra_terms import DEFAULT_STROKE_TERMS
 from ..identification.fit import PARAMETERS
 from ..identification.preparation import PreparationSettings
 from ..identification.signals import DEFAULT_JOINT, DEFAULT_TOPIC
+from ..model.terms import EXTRA_TERMS, LAW_TERMS, parse_terms
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -59,9 +60,20 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument(
         "--fit",
-        default=",".join(PARAMETERS),
+        default=None,
         metavar="NAMES",
-        help=f"comma-separated parameters to fit (default {','.join(PARAMETERS)}); the others stay nominal",
+        help=f"comma-separated parameters to fit, of {','.join(PARAMETERS)} (default: every parameter of "
+        "the terms that are on, and M_eq); a parameter not fitted keeps the value your --params file gives "
+        "it, and one your file does not give is refused (never another axis's nominal)",
+    )
+    p.add_argument(
+        "--terms",
+        default=None,
+        metavar="NAMES",
+        help=f"comma-separated terms of the friction law to fit, of {', '.join(LAW_TERMS)}, and "
+        f"{', '.join(EXTRA_TERMS)} (default: the terms your parameter file gives, with stroke and cogging "
+        "as --stroke-terms and --cogging say); f0 (offset) and da1 (asymmetry) cannot both be fitted: "
+        "give one of them in --params",
     )
     group = p.add_mutually_exclusive_group()
     group.add_argument(
@@ -165,8 +177,16 @@ def run(args: argparse.Namespace) -> int:
     from ..identification.signals import TimeWindow
     from ..identify import REFIT_FILES, identify_to
     from ..model.files import check_distinct_inputs, check_output_files
+    from ..model.params import given_keys
 
     nominal = params_from_args(args)
+    terms = None if args.terms is None else parse_terms(args.terms)
+    assert not isinstance(terms, str)  # no keyword is accepted here
+    if terms is not None:
+        if "stroke" not in terms:
+            args.stroke_terms = 0
+        if "cogging" not in terms:
+            args.cogging = "none"
     logs = [*args.logs, *args.validate]
     for log in logs:
         check_mcap(log)
@@ -174,7 +194,9 @@ def run(args: argparse.Namespace) -> int:
         topic=_state_topic(args, logs),
         joint=args.joint,
         joint_kind=args.joint_kind,
-        fit=tuple(name.strip() for name in args.fit.split(",") if name.strip()),
+        fit=None if args.fit is None else tuple(name.strip() for name in args.fit.split(",") if name.strip()),
+        terms=terms,
+        given=given_keys(args.params),
         preparation=PreparationSettings(cutoff_hz=args.cutoff),
         torque_delay_s=args.torque_delay,
         holdout=args.holdout,

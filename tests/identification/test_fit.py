@@ -39,9 +39,9 @@ def test_agrees_with_scipy_least_squares_on_the_same_residuals():
         values = FrictionValues(*p)
         return K * (samples.force_n - values.force_n(samples.velocity_m_s, samples.acceleration_m_s2))
 
-    start = list(FrictionValues.of(NOMINAL).as_dict().values())
+    start = list(FrictionValues.of(NOMINAL).as_dict().values())[:5]  # eq. (1)'s five: what is fitted
     ref = least_squares(residuals, start, bounds=(0.0, np.inf), x_scale=np.abs(start), xtol=1e-14, ftol=1e-14)
-    assert list(result.values.as_dict().values()) == pytest.approx(ref.x, rel=1e-6)
+    assert list(result.values.as_dict().values())[:5] == pytest.approx(ref.x, rel=1e-6)
 
 
 def test_the_bounds_hold_when_the_data_want_a_negative_coefficient():
@@ -83,10 +83,10 @@ def test_the_jacobian_is_that_of_the_unsquared_residuals():
 def test_sigma_matches_the_scatter_of_repeated_fits():
     """Over 40 noise draws, the spread of each estimate is what the reported σ says (within 35 %)."""
     fits = [fit_parameters(_samples(noise_nm=0.05, n=2000, seed=s), NOMINAL) for s in range(40)]
-    spread = {n: np.std([f.values.as_dict()[n] for f in fits], ddof=1) for n in TRUE.as_dict()}
+    spread = {n: np.std([f.values.as_dict()[n] for f in fits], ddof=1) for n in one_fitted(TRUE)}
     one = fits[0]
     sigma = estimate_uncertainty(one.fitted, one.values.as_dict(), one.jacobian, one.residuals).std
-    for name in TRUE.as_dict():
+    for name in one_fitted(TRUE):
         assert sigma[name] == pytest.approx(spread[name], rel=0.35), name
 
 
@@ -109,3 +109,8 @@ def test_a_log_without_low_speeds_is_told_it_cannot_separate_a1_from_a3():
     result = fit_parameters(FitSamples(v, a, force, K), NOMINAL)
     unc = estimate_uncertainty(result.fitted, result.values.as_dict(), result.jacobian, result.residuals)
     assert any(w.startswith("this log cannot separate a1 from a3") for w in unc.warnings), unc.warnings
+
+
+def one_fitted(values):
+    """The parameters a default fit estimates: eq. (1)'s five."""
+    return [n for n in values.as_dict() if n in ("M_eq", "a1", "a2", "a3", "a4")]
