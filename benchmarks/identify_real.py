@@ -277,8 +277,8 @@ def _only_topic(path: Path) -> str:
 def _parameter_checks(values: Any, fitted: tuple[str, ...], truth: AxisParams) -> list[dict[str, Any]]:
     from ..identification.fit import FrictionValues
 
-    true = FrictionValues.of(truth).every_value()
-    found = values.every_value()
+    true = FrictionValues.of(truth).as_dict()
+    found = values.as_dict()
     beside = {"f0": "a1", "da1": "a1", "da2": "a2", "a3": "a1", "a4": "a4"}
     out = []
     for name in ("M_eq", "a1", "a2", "f0", "da1", "da2", "a3", "a4"):

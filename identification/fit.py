@@ -3,10 +3,13 @@
 With the prepared samples (ẋ_k, ẍ_k, F_k: filtered, decimated; :mod:`.preparation`) and k_e the joint's
 effort per cart force (r/i_r for a motor joint), the residuals and the problem are
 
-    e_k(p) = k_e·(F_k − M_eq·ẍ_k − F_c(ẋ_k; a1, a2, a3, a4) − X_k·β),   F_c of :mod:`axisflow.model.friction`
-    min_p  ½·Σ_k (e_k/σ_e)²  s.t.  a1 … a4 ≥ 0,  M_eq > 0,
+    e_k(p) = k_e·(F_k − M_eq·ẍ_k − F_c(ẋ_k; p) − X_k·β),   F_c of :mod:`axisflow.model.friction`
+    min_p  ½·Σ_k (e_k/σ_e)²  s.t.  a1 … a4 ≥ 0,  M_eq > 0  (f0, da1, da2 of either sign),
+           a1 ± da1 ≥ 0,  a2 ± da2 ≥ 0  (each direction's friction, where an asymmetry is fitted),
 
-over the parameters chosen with ``fit`` (the rest stay at their nominal values) and the coefficients β
+F_c with every term of the law (f0 + a1·sign ẋ + da1·|sign ẋ| + a2·ẋ + da2·|ẋ| + a3·atan(a4·ẋ)), over
+the parameters chosen with ``fit`` (the rest stay at their start values: zero for a term that is off,
+:mod:`.fit_terms` decides) and the coefficients β
 of any extra linear terms X (:mod:`.extra_terms`: friction along the stroke, cogging; unbounded), σ_e
 the RMS of the measured effort (so the objective starts near 1). The variables are scaled,
 p_i = θ_i·|p_i,nominal| (β by the terms' typical sizes); the solve starts from the nominal values, or
@@ -38,12 +41,8 @@ from .uncertainty import Uncertainty, estimate_uncertainty
 if TYPE_CHECKING:
     from ..model import AxisParams
 
-PARAMETERS: tuple[str, ...] = ("M_eq", "a1", "a2", "a3", "a4")
-"""eq. (1)'s parameters: what a refit estimates by default (``--fit``), in report order"""
-LAW_EXTRA: tuple[str, ...] = ("f0", "da1", "da2")
-"""the friction law's terms beside eq. (1) (offset, asymmetry: :mod:`axisflow.model.terms`)"""
-FIT_PARAMETERS: tuple[str, ...] = PARAMETERS + LAW_EXTRA
-"""everything a refit may estimate, in report order"""
+PARAMETERS: tuple[str, ...] = ("M_eq", "a1", "a2", "a3", "a4", "f0", "da1", "da2")
+"""what a refit may estimate, in report order (the paper's five first)"""
 PARAMETER_UNITS = {
     "M_eq": "kg",
     "a1": "N",
@@ -54,15 +53,16 @@ PARAMETER_UNITS = {
     "da1": "N",
     "da2": "N·s/m",
 }
-_SIGNED = frozenset(LAW_EXTRA)
-"""parameters of either sign (no lower bound in the fit)"""
+PAPER_PARAMETERS: tuple[str, ...] = PARAMETERS[:5]
+"""eq. (1)'s parameters: M_eq and a1…a4 (what a fit estimates unless told otherwise)"""
+SIGNED_PARAMETERS = frozenset({"f0", "da1", "da2"})
+"""the parameters of either sign (no lower bound in the fit)"""
 DEFAULT_MAX_ITER = 50
 
 
 @dataclass(frozen=True)
 class FrictionValues:
-    """The model parameters a fit works with (SI units): eq. (1)'s five and the friction law's terms
-    beside it (zero: off)."""
+    """The model parameters a fit works with (SI units): M_eq and the friction law's."""
 
     M_eq: float
     a1: float
@@ -78,12 +78,7 @@ class FrictionValues:
         return cls(params.M_eq, params.a1, params.a2, params.a3, params.a4, params.f0, params.da1, params.da2)
 
     def as_dict(self) -> dict[str, float]:
-        """eq. (1)'s five values and those of the law's other terms that are on (non-zero)."""
-        return {n: getattr(self, n) for n in FIT_PARAMETERS if n in PARAMETERS or getattr(self, n)}
-
-    def every_value(self) -> dict[str, float]:
-        """Every parameter's value, by name (:data:`FIT_PARAMETERS`)."""
-        return {name: getattr(self, name) for name in FIT_PARAMETERS}
+        return {name: getattr(self, name) for name in PARAMETERS}
 
     def force_n(self, velocity_m_s: np.ndarray, acceleration_m_s2: np.ndarray) -> np.ndarray:
         """eq. (1): M_eq·ẍ + F_c(ẋ) [N]."""
@@ -118,7 +113,7 @@ class FitResult:
     @property
     def estimates(self) -> dict[str, float]:
         """The value of every term, by name."""
-        values = self.values.every_value()
+        values = self.values.as_dict()
         return {name: values[name] for name in self.fitted} | self.extra
 
     @property
@@ -131,20 +126,14 @@ class FitResult:
 
 
 def check_fit_names(names: tuple[str, ...] | list[str]) -> tuple[str, ...]:
-    """The parameters to fit, validated, in :data:`FIT_PARAMETERS` order (f0 and da1 never together:
-    while the axis moves both are a constant per direction, :mod:`axisflow.model.friction`)."""
-    unknown = [n for n in names if n not in FIT_PARAMETERS]
+    """The parameters to fit, validated, in :data:`PARAMETERS` order."""
+    unknown = [n for n in names if n not in PARAMETERS]
     if unknown or not names:
         raise IdentificationError(
             f"--fit {','.join(names)!s}: {'unknown ' + ', '.join(unknown) if unknown else 'nothing to fit'}; "
-            f"choose from {', '.join(FIT_PARAMETERS)}"
+            f"choose from {', '.join(PARAMETERS)}"
         )
-    if "f0" in names and "da1" in names:
-        raise IdentificationError(
-            f"--fit {','.join(names)}: f0 and da1 cannot both be fitted (moving, each is a constant force "
-            "per direction): give one of them in the parameter file and fit the other"
-        )
-    return tuple(n for n in FIT_PARAMETERS if n in names)
+    return tuple(n for n in PARAMETERS if n in names)
 
 
 class FrictionFit:
@@ -157,7 +146,7 @@ class FrictionFit:
         acceleration_m_s2: np.ndarray,
         effort_per_force: float,
         nominal: AxisParams,
-        fit: tuple[str, ...] = PARAMETERS,
+        fit: tuple[str, ...] = PAPER_PARAMETERS,
         max_iter: int = DEFAULT_MAX_ITER,
         extra: np.ndarray | None = None,
         extra_names: tuple[str, ...] = (),
@@ -176,11 +165,17 @@ class FrictionFit:
                 f"extra terms: {columns.shape} columns for {n_samples} samples and {len(extra_names)} names"
             )
         self.extra_names = tuple(extra_names)
-        start = self.initial.every_value()
-        self._scale = np.array([_scale(n, start) for n in self.names] + list(extra_scales), dtype=float)
+        start = self.initial.as_dict()
+        # a start of zero (a term switched on from nothing) is scaled by the friction's size
+        typical = max(abs(start["a1"]), abs(start["a3"]), 1.0)
+        self._scale = np.array(
+            [max(abs(start[n]), 0.05 * typical if n in SIGNED_PARAMETERS else 1e-3) for n in self.names]
+            + list(extra_scales),
+            dtype=float,
+        )
         n_vars = len(self.names) + len(self.extra_names)
         theta = ca.MX.sym("theta", n_vars)
-        value = {n: start[n] for n in FIT_PARAMETERS}
+        value = {n: start[n] for n in PARAMETERS}
         for i, n in enumerate(self.names):
             value[n] = theta[i] * self._scale[i]
         force = ca.MX.sym("force", n_samples)
@@ -192,11 +187,14 @@ class FrictionFit:
         friction = friction_expression(
             v,
             sign_v,
-            *(value[n] for n in ("a1", "a2", "a3", "a4")),
+            value["a1"],
+            value["a2"],
+            value["a3"],
+            value["a4"],
             ca.atan,
-            value["f0"],
-            value["da1"],
-            value["da2"],
+            f0=value["f0"],
+            da1=value["da1"],
+            da2=value["da2"],
         )
         residual = k * (force - value["M_eq"] * a - friction)
         if self.extra_names:
@@ -207,16 +205,11 @@ class FrictionFit:
         lam_f = ca.MX.sym("lam_f")
         data = ca.vertcat(force, sigma, kept)
         # each direction's friction stays ≥ 0 (a ± da ≥ 0) where an asymmetry is fitted: linear in θ
-        sides = [
-            value[a] + s * value[d]
-            for a, d in (("a1", "da1"), ("a2", "da2"))
-            if d in self.names
-            for s in (1, -1)
-        ]
+        pairs = (("a1", "da1"), ("a2", "da2"))
+        sides = [value[a] + s * value[d] for a, d in pairs if d in self.names for s in (1, -1)]
         g = ca.vertcat(*sides) if sides else ca.MX(0, 1)
-        self._g_jacobian = np.array(
-            ca.Function("g_jacobian", [theta], [ca.jacobian(g, theta)])(np.zeros(n_vars))
-        )
+        g_jacobian = ca.Function("g_jacobian", [theta], [ca.jacobian(g, theta)])
+        self._g_jacobian = np.array(g_jacobian(np.zeros(n_vars)))
         hess_lag = ca.Function(
             "gauss_newton",
             [theta, data, lam_f, ca.MX.sym("lam_g", len(sides))],
@@ -243,9 +236,10 @@ class FrictionFit:
         )
         self._evaluate = ca.Function("residual_and_jacobian", [theta, force], [residual, jac])
         self._lower = np.array(
-            [1e-6 if name == "M_eq" else -np.inf if name in _SIGNED else 0.0 for name in self.names]
+            [1e-6 if name == "M_eq" else -np.inf if name in SIGNED_PARAMETERS else 0.0 for name in self.names]
             + [-np.inf] * len(self.extra_names)
         )
+
         self._k = k
 
     def solve(
@@ -263,7 +257,7 @@ class FrictionFit:
         if not mask.any():
             raise IdentificationError("no sample is kept for the fit")
         sigma = float(np.sqrt(np.mean((self._k * np.asarray(force_n)[mask]) ** 2))) or 1.0
-        first = (start or self.initial).every_value()
+        first = (start or self.initial).as_dict()
         beta0 = (
             np.zeros(len(self.extra_names)) if start_extra is None else np.asarray(start_extra, dtype=float)
         )
@@ -276,7 +270,7 @@ class FrictionFit:
         stats = self._solver.stats()
         # the QP steps may end a hair outside a bound (−1e-13): the bound is the value
         theta_opt = np.maximum(np.array(solution["x"]).ravel(), self._lower)
-        found = self.initial.every_value()
+        found = self.initial.as_dict()
         for i, name in enumerate(self.names):
             found[name] = float(theta_opt[i] * self._scale[i])
         for a, d in (("a1", "da1"), ("a2", "da2")):  # and a hair outside a ± da ≥ 0 is on it
@@ -311,18 +305,10 @@ class FrictionFit:
         )
 
 
-def _scale(name: str, start: dict[str, float]) -> float:
-    """The typical size of a parameter (the fit's variable scaling): its starting value, or for a term
-    that starts at zero a twentieth of the friction it sits beside (a1 for f0 and da1, a2 for da2)."""
-    beside = {"f0": "a1", "da1": "a1", "da2": "a2"}.get(name)
-    floor = 0.05 * abs(start[beside]) if beside else 0.0
-    return max(abs(start[name]), floor, 1e-3)
-
-
 def fit_parameters(
     samples: FitSamples,
     nominal: AxisParams,
-    fit: tuple[str, ...] = PARAMETERS,
+    fit: tuple[str, ...] = PAPER_PARAMETERS,
     max_iter: int = DEFAULT_MAX_ITER,
 ) -> FitResult:
     """Estimate the ``fit`` parameters from ``samples`` starting at ``nominal`` (see the module doc)."""
@@ -367,7 +353,7 @@ class WindowFit:
 def fit_window(
     samples: FitSamples,
     nominal: AxisParams,
-    fit: tuple[str, ...] = PARAMETERS,
+    fit: tuple[str, ...] = PAPER_PARAMETERS,
     start: FitResult | None = None,
     extra_names: tuple[str, ...] = (),
     extra_scales: tuple[float, ...] = (),

@@ -33,10 +33,20 @@ from pathlib import Path
 import numpy as np
 
 from ..model import AxisParams, ParameterError
+from ..model.terms import TERMS, canonical_terms
 from .alignment import DelayEstimate, estimate_delay
 from .errors import IdentificationError
 from .extra_terms import DEFAULT_STROKE_TERMS, ExtraTerms, TermColumns, covered_stretch
-from .fit import PARAMETERS, FitResult, FrictionValues, WindowFit, check_fit_names, fit_window
+from .fit import (
+    PARAMETERS,
+    SIGNED_PARAMETERS,
+    FitResult,
+    FrictionValues,
+    WindowFit,
+    check_fit_names,
+    fit_window,
+)
+from .fit_terms import FitChoice, choose_parameters
 from .preparation import PreparationSettings, PreparedLog, fit_indices, fit_samples, prepare
 from .residuals import ResidualAnalysis, analyse_residuals, analysed_span
 from .selection import (
@@ -45,6 +55,7 @@ from .selection import (
     Structure,
     fit_plan,
     select_structure,
+    typical_speed_m_s,
     unsupported_terms,
     without_terms,
 )
@@ -58,7 +69,14 @@ class IdentifySettings:
     joint: str = DEFAULT_JOINT
     joint_kind: str | None = None
     """motor or carriage; None: from the joint's name"""
-    fit: tuple[str, ...] = PARAMETERS
+    fit: tuple[str, ...] | None = None
+    """the parameters to fit (:data:`~.fit.PARAMETERS` names); None: every parameter of the terms
+    that are on (:mod:`.fit_terms`)"""
+    terms: tuple[str, ...] | None = None
+    """the friction law's terms that are on (:mod:`axisflow.model.terms` names); None: the parameter
+    file's (:mod:`.fit_terms`)"""
+    given: frozenset[str] | None = None
+    """the keys the user's own parameter file gives; None: every nominal value is the user's own"""
     preparation: PreparationSettings = field(default_factory=PreparationSettings)
     torque_delay_s: float | None = None
     """the torque/position offset [s]; None: estimated"""
@@ -75,7 +93,10 @@ class IdentifySettings:
     fit supports them); False: fit ``fit`` and ``extra`` as they are"""
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "fit", check_fit_names(tuple(self.fit)))
+        if self.fit is not None:
+            object.__setattr__(self, "fit", check_fit_names(tuple(self.fit)))
+        if self.terms is not None:
+            object.__setattr__(self, "terms", canonical_terms(tuple(self.terms)))
         if not (math.isfinite(self.holdout) and 0.0 <= self.holdout < 0.9):
             raise IdentificationError(f"holdout = {self.holdout} must be a fraction in [0, 0.9)")
         if self.torque_delay_s is not None and not abs(self.torque_delay_s) <= 0.1:
@@ -133,10 +154,21 @@ class Identification:
     timing_s: dict[str, float]
     cogging_found: tuple[int, ...] = ()
     """cogging orders the first pass's residual showed and the fit then took in (``--cogging auto``)"""
+    choice: FitChoice | None = None
+    """the terms on, the parameters fitted and held (:mod:`.fit_terms`; with ``--terms auto``, the
+    selection's choice)"""
     selection: Selection | None = None
     """the candidates compared and the structure chosen (``--terms auto``; None: fixed terms)"""
     dropped: tuple[str, ...] = ()
     """terms the final fit did not support (σ larger than the value), dropped and fitted again without"""
+
+    @property
+    def at_bound(self) -> tuple[str, ...]:
+        """Fitted friction parameters stuck at their lower bound 0 (a1…a4): the log does not support
+        the term, or the model lacks another one; the report says so."""
+        values = self.fit.values.as_dict()
+        bounded = [n for n in self.fit.fitted if n not in SIGNED_PARAMETERS and n != "M_eq"]
+        return tuple(n for n in bounded if values[n] <= 0.0)
 
     @property
     def fit(self) -> FitResult:
@@ -218,6 +250,12 @@ def identify(
     s = settings or IdentifySettings()
     if s.holdout and validate:
         raise IdentificationError("give either validation logs or a holdout fraction, not both")
+    selecting = s.select and s.terms is None and s.fit is None
+    choice = None
+    if not selecting:  # fixed terms: what the file and --terms/--fit say (:mod:`.fit_terms`)
+        choice = choose_parameters(nominal, s.terms, s.fit, s.given)
+        nominal = choice.start
+        s = dataclasses.replace(s, fit=choice.fitted, terms=choice.terms, select=False)
     t0 = time.perf_counter()
     kind = joint_kind(s.joint, s.joint_kind)
     signals = [load_joint(p, s.topic, s.joint, nominal, kind.value, s.window) for p in paths]
@@ -230,7 +268,7 @@ def identify(
     parts = fit_indices(logs, s.preparation.fit_rate_hz, fit_keep)
     t_prepare = time.perf_counter()
     run = _FitPass(s, nominal, logs, val_logs, fit_keep, val_keep, parts)
-    selection = _select(run, s) if s.select else None
+    selection = _select(run, s) if selecting else None
     t_select = time.perf_counter()
     structure = None  # with the selection: its choice, and the cogging orders given
     if selection is not None:
@@ -249,9 +287,12 @@ def identify(
         if dropped:
             structure = without_terms(structure, dropped)
             ident = run.fit(dataclasses.replace(ident.extra, **_extra_of(structure)), structure)
+    if structure is not None:
+        choice = run.choice_of(structure, ident.fit.fitted)
     t_end = time.perf_counter()
     return dataclasses.replace(
         ident,
+        choice=choice,
         cogging_found=found,
         selection=selection,
         dropped=dropped,
@@ -289,7 +330,13 @@ def _select(run: _FitPass, s: IdentifySettings) -> Selection:
         run.stretch,
         s.extra.stroke_terms,
         s.torque_delay_s,
+        given=s.given,
+        speed_m_s=run.speed_m_s,
     )
+
+
+def _parameters_of(terms: tuple[str, ...]) -> tuple[str, ...]:
+    return ("M_eq", *(p for t in terms if t in TERMS for p in TERMS[t].parameters))
 
 
 def _extra_of(structure: Structure) -> dict[str, object]:
@@ -336,17 +383,28 @@ class _FitPass:
         self.logs, self.val_logs = logs, val_logs
         self.fit_keep, self.val_keep, self.parts = fit_keep, val_keep, parts
         self.stretch = covered_stretch(logs, parts)
+        self.speed_m_s = typical_speed_m_s(logs, parts)
         self.solve_s = 0.0
         """wall time of the offset searches and the fits [s]"""
         self.judge_s = 0.0
         """wall time of the errors and the residual analyses [s]"""
+
+    def choice_of(self, structure: Structure, fitted: tuple[str, ...]) -> FitChoice:
+        """What a fit of ``structure`` had on, fitted and held, in the terms of :mod:`.fit_terms`."""
+        _names, start = fit_plan(structure, self.nominal, self.settings.given, self.speed_m_s)
+        held = tuple(n for n in PARAMETERS if n not in fitted and n in _parameters_of(start.terms))
+        switched = tuple(t for t in self.nominal.terms if t not in start.terms)
+        return FitChoice(start, start.terms, fitted, held, switched)
 
     def fit(self, extra: ExtraTerms, structure: Structure | None = None) -> Identification:
         """Fit ``extra`` beside eq. (1)'s parameters: those of ``structure`` (from its starting values:
         :func:`.selection.fit_plan`), or without one the settings' ``fit`` from the nominal values."""
         t0 = time.perf_counter()
         s, nominal, logs, parts = self.settings, self.nominal, self.logs, self.parts
-        fit, start = (s.fit, nominal) if structure is None else fit_plan(structure, nominal)
+        if structure is None:
+            fit, start = s.fit or (), nominal
+        else:
+            fit, start = fit_plan(structure, nominal, s.given, self.speed_m_s)
         columns = [extra.columns(log, self.stretch, nominal, s.preparation) for log in logs]
         val_columns = [extra.columns(log, self.stretch, nominal, s.preparation) for log in self.val_logs]
         names, scales = extra.names, extra.scales(nominal)
@@ -426,7 +484,7 @@ def _residuals(ident: Identification, fit_keep: list[np.ndarray] | None) -> Resi
         idx = np.arange(end)
         model = ident.model_force(log, ident.columns[i], idx=idx)
         raw.append(k * (np.interp(t[:end] + ident.delay_s, t, log.signals.force_n) - model))
-        angle.append(log.signals.position_m[:end] * ident.nominal.i_r / ident.nominal.r)
+        angle.append(log.signals.position_m[:end] * ident.nominal.transmission.radians_per_metre)
     spectral = [mask[:end] for mask, end in zip(spectral, spans, strict=True)]
     p = ident.settings.preparation
     return analyse_residuals(raw, spectral, angle, rate, p.cutoff_hz, p.order)

@@ -46,7 +46,7 @@ SOLVER_METHOD = "CasADi sqpmethod (qrqp QP steps, Gauss–Newton Hessian)"
 def report_json(ident: Identification) -> dict[str, Any]:
     """The JSON record of a refit (keys in the module docstring)."""
     fit, unc, kind = ident.fit, ident.uncertainty, ident.kind
-    values, initial = fit.values.every_value(), fit.initial.every_value()
+    values, initial = fit.values.as_dict(), fit.initial.as_dict()
     logs = ident.logs
     used = sum(int(log.usable.sum()) for log in logs)
     out: dict[str, Any] = {
@@ -59,6 +59,7 @@ def report_json(ident: Identification) -> dict[str, Any]:
             }
             for name in fit.fitted
         },
+        "terms": _terms(ident),
         "coulomb_combination": _coulomb_combination(ident),
         "extra_terms": _extra_terms(ident),
         "correlation": {"names": list(unc.names), "matrix": unc.correlation.round(6).tolist()},
@@ -135,7 +136,7 @@ def report_json(ident: Identification) -> dict[str, Any]:
                 "period": 1.0 / min(log.signals.rate_hz for log in logs),
             },
             "preparation": dataclasses.asdict(ident.settings.preparation),
-            "warnings": list(unc.warnings) + _delay_warning(ident),
+            "warnings": list(unc.warnings) + _delay_warning(ident) + _bound_warnings(ident),
         }
     )
     return out
@@ -222,7 +223,32 @@ def _unexplained(ident: Identification) -> dict[str, Any]:
     }
 
 
+def _terms(ident: Identification) -> dict[str, Any]:
+    """The law's terms on, what was fitted and held (with the held values), what the choice switched
+    off, and the fitted parameters stuck at their lower bound."""
+    choice = ident.choice
+    values = ident.fit.values.as_dict()
+    held = choice.held if choice is not None else ()
+    return {
+        "on": list(choice.terms if choice is not None else ident.params.terms),
+        "fitted": list(ident.fit.fitted),
+        "held": {name: values[name] for name in held},
+        "switched_off": list(choice.switched_off if choice is not None else ()),
+        "at_bound": list(ident.at_bound),
+    }
+
+
+def _bound_warnings(ident: Identification) -> list[str]:
+    std = ident.uncertainty.std
+    return [
+        f"{name} = 0 {PARAMETER_UNITS[name]} is at its lower bound (σ {std.get(name, math.nan):.3g} "
+        f"{PARAMETER_UNITS[name]}): the log does not support this term, or the model lacks another one"
+        for name in ident.at_bound
+    ]
+
+
 def _delay_warning(ident: Identification) -> list[str]:
+
     delay = ident.delay
     if delay is None or delay.resolvable:
         return []
@@ -250,6 +276,16 @@ def report_markdown(report: dict[str, Any]) -> str:
         lines.append(
             f"| {name} [{p['unit']}] | {p['value']:.6g} | {p['std']:.3g} | {p['initial']:.6g} | {change} |"
         )
+    terms = report.get("terms")
+    if terms:
+        held = ", ".join(f"{k} = {v:.6g}" for k, v in terms["held"].items()) or "none"
+        off = f"; switched off (nothing fitted or given): {', '.join(terms['switched_off'])}"
+        lines += [
+            "",
+            f"Terms of the friction law on: {', '.join(terms['on']) or 'none'}; held at your values: {held}"
+            + (off if terms["switched_off"] else "")
+            + ".",
+        ]
     lines += [
         "",
         f"Effort error (measured − model, {unit}; both through the fit's zero-phase filter; unfiltered "

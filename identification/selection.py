@@ -59,13 +59,13 @@ structure (or given). The chosen structure is then fitted on every sample, as a 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..model.terms import TERMS
+from ..model.terms import TERMS, canonical_terms
 from .alignment import estimate_delay
 from .errors import IdentificationError
 from .extra_terms import ExtraTerms
@@ -136,33 +136,52 @@ class Structure:
         return ExtraTerms(self.stroke_terms, self.cogging_orders)
 
 
-def offset_given(nominal: AxisParams) -> bool:
-    """Whether the parameter file gives the constant force f0 (then it is held, and da1 may be fitted)."""
-    return "offset" in nominal.terms
+def offset_given(nominal: AxisParams, given: frozenset[str] | None = None) -> bool:
+    """Whether the user's parameter file gives the constant force f0 (then it is held, and da1 may be
+    fitted); ``given``: the keys the file gives (None: every value of ``nominal`` is the user's)."""
+    return "offset" in nominal.terms and (given is None or "f0" in given)
 
 
-def fit_plan(structure: Structure, nominal: AxisParams) -> tuple[tuple[str, ...], AxisParams]:
-    """The parameters a fit of ``structure`` estimates, and the parameters it starts from: the terms
-    it does not take in are off there (zero), but for a constant force the file gives, which is held."""
-    given = offset_given(nominal)
+ATAN_START_SPEED_FRACTION = 0.1
+"""an atan term the file does not give starts bending at this fraction of the log's typical speed:
+a4 = 1/(fraction × speed) (the fit moves it; a start of zero could not: a3·atan(0) has no slope)"""
+
+
+def fit_plan(
+    structure: Structure,
+    nominal: AxisParams,
+    given: frozenset[str] | None = None,
+    speed_m_s: float | None = None,
+) -> tuple[tuple[str, ...], AxisParams]:
+    """The parameters a fit of ``structure`` estimates, and the parameters it starts from (their terms
+    on, the others off: zero). Everything in the structure is fitted but a constant force the user's
+    file gives (held: :func:`offset_given`); with f0 fitted, the asymmetry is the viscous one and
+    da1 = 0 (f0 takes the constant per direction). An atan term the file lacks starts from a3 = a1/2
+    and a4 from ``speed_m_s`` (the log's typical speed, :func:`typical_speed_m_s`)."""
+    held_offset = offset_given(nominal, given)
     law = structure.law
     names = ["M_eq", "a1", "a2"]
-    if "offset" in law and not given:
+    if "offset" in law and not held_offset:
         names.append("f0")
     if "asymmetry" in law:
-        names += ["da1", "da2"] if given else ["da2"]
+        names += ["da1", "da2"] if held_offset else ["da2"]
     if "atan" in law:
         names += ["a3", "a4"]
-    off: dict[str, float] = {}
-    if "atan" not in law:
-        off.update(a3=0.0, a4=0.0)
-    if "offset" not in law and not given:
-        off["f0"] = 0.0
-    if "asymmetry" not in law:
-        off.update(da1=0.0, da2=0.0)
-    elif not given:
-        off["da1"] = 0.0
-    return tuple(names), nominal.replace(**off) if off else nominal
+    on = BASE_TERMS + (("offset",) if held_offset else ()) + law
+    values: dict[str, float] = {p: 0.0 for t in TERMS if t not in on for p in TERMS[t].parameters}
+    if "asymmetry" in law and not held_offset:
+        values["da1"] = 0.0
+    if "atan" in law and not (nominal.a3 and nominal.a4):
+        speed = speed_m_s if speed_m_s and speed_m_s > 0.0 else nominal.v_max
+        values["a3"] = 0.5 * nominal.a1 if nominal.a1 > 0.0 else 1.0
+        values["a4"] = 1.0 / (ATAN_START_SPEED_FRACTION * speed)
+    return tuple(names), nominal.replace(**values, terms=canonical_terms(on))
+
+
+def typical_speed_m_s(logs: Sequence[PreparedLog], parts: Sequence[np.ndarray]) -> float:
+    """The median speed [m/s] of the fit samples ``parts`` of ``logs`` (0 if none)."""
+    speeds = [np.abs(log.velocity_m_s[p]) for log, p in zip(logs, parts, strict=True) if p.size]
+    return float(np.median(np.concatenate(speeds))) if speeds else 0.0
 
 
 def term_parameters(structure: Structure, fitted: tuple[str, ...]) -> dict[str, tuple[str, ...]]:
@@ -326,15 +345,22 @@ def select_structure(
     stroke_terms: int,
     delay_s: float | None = None,
     folds: int = FOLDS,
+    given: frozenset[str] | None = None,
+    speed_m_s: float | None = None,
 ) -> Selection:
     """Choose the structure of a fit of ``logs`` (samples ``parts``), scored also on ``val_logs``
     (samples ``val_parts``), by the rule of the module docstring."""
     data = _SelectionData(logs, parts, val_logs, val_parts, folds)
-    candidates = law_candidates(offset_given(nominal))
+    held_offset = offset_given(nominal, given)
+    candidates = law_candidates(held_offset)
+
+    def plan(structure: Structure) -> tuple[tuple[str, ...], AxisParams]:
+        return fit_plan(structure, nominal, given, speed_m_s)
+
     if delay_s is None:
-        names, start = fit_plan(Structure(candidates[-1]), nominal)
+        names, start = plan(Structure(candidates[-1]))
         delay_s = estimate_delay(list(logs), data.fit_parts, start, names).value_s
-    run = _Candidates(data, nominal, preparation, stretch_m, delay_s)
+    run = _Candidates(data, nominal, preparation, stretch_m, delay_s, plan)
     scores = run.scores([Structure(law) for law in candidates])
     chosen, _best, _threshold = choose(scores)
     law = chosen.structure.law
@@ -349,7 +375,7 @@ def select_structure(
         validation_logs=len(val_logs),
         samples=data.samples,
         delay_s=delay_s,
-        notes=tuple(_notes(scores, chosen, offset_given(nominal))),
+        notes=tuple(_notes(scores, chosen, held_offset)),
     )
 
 
@@ -371,9 +397,10 @@ class _Candidates:
         preparation: PreparationSettings,
         stretch_m: tuple[float, float],
         delay_s: float,
+        plan: Callable[[Structure], tuple[tuple[str, ...], AxisParams]],
     ) -> None:
         self.data, self.nominal, self.preparation = data, nominal, preparation
-        self.stretch, self.delay_s = stretch_m, delay_s
+        self.stretch, self.delay_s, self.plan = stretch_m, delay_s, plan
 
     def scores(
         self, structures: Sequence[Structure], done: Sequence[CandidateScore] = ()
@@ -397,7 +424,7 @@ class _Candidates:
 
     def score(self, structure: Structure) -> CandidateScore:
         d = self.data
-        names, start = fit_plan(structure, self.nominal)
+        names, start = self.plan(structure)
         extra = structure.extra
         columns = [extra.columns(log, self.stretch, self.nominal, self.preparation) for log in d.logs]
         samples = fit_samples(d.logs, d.parts, self.delay_s, columns if len(extra) else None)

@@ -16,10 +16,12 @@ The package ships a default (``default_axis.toml``); any other file can be given
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import math
 from dataclasses import dataclass
 from enum import StrEnum
+from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
@@ -213,6 +215,29 @@ class AxisParams:
         return tuple(k for k in FRICTION_KEYS if k in on)
 
 
+@lru_cache(maxsize=512)
+def _forward_axis(params: AxisParams, direction: float) -> AxisParams:
+    axis = copy.copy(params)
+    a1, a2 = params.a1 + direction * params.da1, params.a2 + direction * params.da2
+    for name, value in (("a1", a1), ("a2", a2), ("f0", direction * params.f0), ("da1", 0.0), ("da2", 0.0)):
+        object.__setattr__(axis, name, value)
+    return axis
+
+
+def forward_axis(params: AxisParams, direction: float) -> AxisParams:
+    """The axis as a move in ``direction`` (its sign) sees it, in the move's forward frame: a1 and a2
+    the Coulomb and viscous friction of that direction, f0 the load along the motion (s·f0), no
+    asymmetry; its forward law towards +x, φ(v) = a1 + f0 + a2·v + a3·atan(a4·v), is φ_s of the
+    real axis (:mod:`.friction`), and f0 alone is the force at rest (Coulomb sign 0). The paper's
+    axis (no offset, no asymmetry) is returned as it is; otherwise a cached copy, **not validated**
+    (the copy of one direction need not hold in the other). For the planner, which works in a move's
+    forward frame; never a parameter file."""
+
+    if params.f0 == 0.0 and params.da1 == 0.0 and params.da2 == 0.0:
+        return params
+    return _forward_axis(params, 1.0 if direction >= 0.0 else -1.0)
+
+
 PARAMETER_KEYS: tuple[str, ...] = ("m", *Belt.keys, "L", *FRICTION_KEYS, "v_max", "tau_max")
 """the keys of a belt axis's file with every term on, in file order (the paper's axis: a1…a4 only)"""
 FILE_KEYS: tuple[str, ...] = (*PARAMETER_KEYS, "energy_accounting", "transmission")
@@ -347,6 +372,7 @@ __all__ = [
     "AxisParams",
     "EnergyAccounting",
     "default_params",
+    "forward_axis",
     "given_keys",
     "load_params",
     "params_from_mapping",

@@ -128,6 +128,14 @@ class Belt(Transmission):
     def metres_per_radian(self) -> float:
         return self.r / self.i_r
 
+    @property
+    def radians_per_metre(self) -> float:
+        return self.i_r / self.r  # as written in eq. (1), not 1/k rounded twice
+
+    @property
+    def force_per_torque(self) -> float:
+        return self.i_r / self.r
+
     def reflected_mass_kg(self) -> float:
         return ((self.J_m + self.J_g) * self.i_r**2 + 2.0 * self.J_p) / self.r**2
 
@@ -186,6 +194,14 @@ class RackPinion(Transmission):
     @property
     def metres_per_radian(self) -> float:
         return self.r / self.i_r
+
+    @property
+    def radians_per_metre(self) -> float:
+        return self.i_r / self.r  # as written in eq. (1), not 1/k rounded twice
+
+    @property
+    def force_per_torque(self) -> float:
+        return self.i_r / self.r
 
     def reflected_mass_kg(self) -> float:
         return ((self.J_m + self.J_g) * self.i_r**2 + self.J_p) / self.r**2

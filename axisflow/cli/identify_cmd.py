@@ -18,6 +18,7 @@ from ..identification.extra_terms import DEFAULT_STROKE_TERMS
 from ..identification.fit import PARAMETERS
 from ..identification.preparation import PreparationSettings
 from ..identification.signals import DEFAULT_JOINT, DEFAULT_TOPIC
+from ..model.terms import EXTRA_TERMS, LAW_TERMS, parse_terms
 from .column_options import (
     add_column_options,
     column_map_from_args,
@@ -84,20 +85,22 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--terms",
         default="auto",
-        metavar="auto",
-        choices=("auto",),
+        metavar="auto|NAMES",
         help="auto (default): choose the terms the data support: candidate structures (the friction "
         "law's offset, asymmetry and atan terms, then the stroke terms) compared on held-out blocks of "
         "the logs and on --validate logs, the simplest within one standard error of the best; cogging "
         "orders (given or found) join the chosen one; a term whose σ exceeds its value is dropped "
-        "(docs/identification.md)",
+        f"(docs/identification.md). Or comma-separated terms to fit, of {', '.join(LAW_TERMS)}, and "
+        f"{', '.join(EXTRA_TERMS)} (stroke and cogging as --stroke-terms and --cogging say); f0 (offset) "
+        "and da1 (asymmetry) cannot both be fitted: give one of them in --params",
     )
     p.add_argument(
         "--fit",
         default=None,
         metavar="NAMES",
-        help=f"comma-separated parameters to fit instead (of {','.join(PARAMETERS)}), with the stroke and "
-        "cogging terms as given: no selection; the others stay nominal",
+        help=f"comma-separated parameters to fit instead of choosing terms, of {','.join(PARAMETERS)}; a "
+        "parameter not fitted keeps the value your --params file gives it, and one your file does not "
+        "give is refused (never another axis's nominal)",
     )
     group = p.add_mutually_exclusive_group()
     group.add_argument(
@@ -204,8 +207,17 @@ def run(args: argparse.Namespace) -> int:
     from ..identification.signals import TimeWindow
     from ..identify import REFIT_FILES
     from ..model.files import check_distinct_inputs, check_output_files
+    from ..model.params import given_keys
 
     nominal = params_from_args(args)
+    chosen = parse_terms(args.terms, keywords=("auto",))
+    terms = None if chosen == "auto" else chosen
+    assert not isinstance(terms, str)
+    if terms is not None:
+        if "stroke" not in terms:
+            args.stroke_terms = 0
+        if "cogging" not in terms:
+            args.cogging = "none"
     logs = [*args.logs, *args.validate]
     foreign = [log for log in logs if format_of(log) is not None]
     for log in logs:
@@ -220,8 +232,10 @@ def run(args: argparse.Namespace) -> int:
         )
     settings = IdentifySettings(  # the topic and joint once the logs are read
         joint_kind=args.joint_kind,
-        fit=PARAMETERS if args.fit is None else tuple(n.strip() for n in args.fit.split(",") if n.strip()),
-        select=args.fit is None and args.terms == "auto",
+        fit=None if args.fit is None else tuple(name.strip() for name in args.fit.split(",") if name.strip()),
+        terms=terms,
+        select=terms is None,
+        given=given_keys(args.params),
         preparation=PreparationSettings(cutoff_hz=args.cutoff),
         torque_delay_s=args.torque_delay,
         holdout=args.holdout,

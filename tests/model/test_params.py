@@ -146,3 +146,20 @@ def test_a_new_equivalent_mass_goes_into_the_cart_mass():
     assert (heavier.J_m, heavier.J_g, heavier.J_p) == (params.J_m, params.J_g, params.J_p)
     with pytest.raises(ParameterError, match="M_eq = 1 kg is not above the rotating parts' share"):
         params.with_equivalent_mass(1.0)
+
+
+def test_the_parameter_file_of_each_transmission_kind_in_the_docs_loads_and_round_trips(tmp_path):
+    from pathlib import Path
+
+    from axisflow.model.transmission import TRANSMISSION_KINDS
+
+    axes = Path(__file__).parents[2] / "docs" / "axes"
+    for kind in TRANSMISSION_KINDS:
+        params = load_params(axes / f"{kind}.toml")
+        assert params.kind == kind
+        f = tmp_path / f"{kind}.toml"
+        f.write_text(params_to_toml(params))
+        assert load_params(f) == params
+        k = params.transmission
+        assert k.carriage_position(k.motor_angle(0.3)) == pytest.approx(0.3, rel=1e-15)
+        assert k.force_per_torque * k.metres_per_radian == pytest.approx(1.0, rel=1e-15)
