@@ -3,7 +3,8 @@
 Rows:
 
 1. **A simulated axis of each transmission kind** (``--axes FILE…``; default: the example file of
-   each kind, docs/axes/*.toml, or the packaged belt axis). The user's parameter file is the kind's
+   each kind, docs/axes/*.toml, which give a constant force, and the packaged belt axis, which does
+   not). The user's parameter file is the kind's
    file with its friction law cut back to eq. (1) — unless it gives a constant force (gravity on a
    vertical axis), which the user knows and keeps; the true axis has a constant force f0 and a viscous
    asymmetry da2 (and, where the file gives f0, its Coulomb asymmetry da1: only then can a log tell
@@ -67,7 +68,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         nargs="*",
         metavar="FILE",
         default=None,
-        help="parameter files of the simulated axes (default: docs/axes/*.toml, else the packaged axis)",
+        help="parameter files of the simulated axes (default: docs/axes/*.toml and the packaged axis)",
     )
     parser.add_argument("--laps", type=int, default=4, help="laps of the EMPS-like logs (default 4: ~25 s)")
     parser.add_argument("--seed", type=int, default=0, help="noise seed of the fit logs (validation: +1)")
@@ -104,7 +105,7 @@ def _axis_files(given: list[str] | None) -> list[Path | None]:
     if given:
         return [Path(p) for p in given]
     found = sorted(_EXAMPLES.glob("*.toml")) if _EXAMPLES.is_dir() else []
-    return list(found) or [None]
+    return [*found, None]  # the packaged axis too: a file without f0, so f0 is fitted
 
 
 # ---- the simulated axes ------------------------------------------------------------------------------
@@ -128,14 +129,12 @@ def truth_and_nominal(path: Path | None) -> tuple[AxisParams, AxisParams]:
 
 
 def simulated_axis_row(path: Path | None, folder: Path, seed: int) -> dict[str, Any]:
-    from ..acquisition.drives.plant import load_profile
     from ..identification.excitation import design_excitation
     from ..offline_excitation import record_offline_excitation
 
     true, user = truth_and_nominal(path)
     name = path.stem if path else "packaged belt axis"
-    plant = load_profile("realistic", user)
-    plant = dataclasses.replace(plant, axis=true, cogging=None, belt=None, stroke_friction=None)
+    plant = realistic_drive(true)
     plan = design_excitation(user)
     logs = []
     for role, offset in (("fit", 0), ("validation", 1)):
@@ -153,6 +152,34 @@ def simulated_axis_row(path: Path | None, folder: Path, seed: int) -> dict[str, 
         true_model=lambda log: _law_force(true, log),
         true_delay_s=SIMULATED_TORQUE_DELAY_S,
         truth=true,
+    )
+
+
+def realistic_drive(true: AxisParams) -> Any:
+    """The ``realistic`` profile's drive on the rigid axis ``true`` (no cogging, belt or friction along
+    the stroke): its units (the rated torque 40 % of the axis's peak, as the profile's), its current
+    and sensor noise scaled with the axis's peak torque (or force), its jittered and lost samples."""
+    from ..acquisition.drives.plant import load_profile
+    from ..model import default_params
+
+    profile = load_profile("realistic", default_params())
+    scale = true.tau_max / profile.axis.tau_max
+    loop, sensor, drive = profile.current_loop, profile.torque_sensor, profile.drive
+    return dataclasses.replace(
+        profile,
+        axis=true,
+        cogging=None,
+        belt=None,
+        stroke_friction=None,
+        drive=None if drive is None else dataclasses.replace(drive, rated_torque_nm=0.4 * true.tau_max),
+        torque_sensor=dataclasses.replace(sensor, noise_std_nm=sensor.noise_std_nm * scale),
+        current_loop=None
+        if loop is None
+        else dataclasses.replace(
+            loop,
+            torque_noise_std_nm=loop.torque_noise_std_nm * scale,
+            measurement_noise_std_nm=loop.measurement_noise_std_nm * scale,
+        ),
     )
 
 
@@ -243,7 +270,8 @@ def _scored_row(
             validation, lambda log: ls.force_n(log.velocity_m_s, log.acceleration_m_s2)
         ),
     }
-    checks = _parameter_checks(ident.fit.values, ident.fit.fitted, truth) if truth is not None else []
+    held = ident.choice.held if ident.choice is not None else ()
+    checks = _parameter_checks(ident.fit.values, ident.fit.fitted, held, truth) if truth is not None else []
     ratio = errors["identify"] / errors["true_model"]
     passed = errors["identify"] < errors["textbook"]
     if truth is not None:
@@ -274,7 +302,11 @@ def _only_topic(path: Path) -> str:
     return topic
 
 
-def _parameter_checks(values: Any, fitted: tuple[str, ...], truth: AxisParams) -> list[dict[str, Any]]:
+def _parameter_checks(
+    values: Any, fitted: tuple[str, ...], held: tuple[str, ...], truth: AxisParams
+) -> list[dict[str, Any]]:
+    """Each parameter fitted or in the truth against the truth; one held at the user's value (a
+    constant force the file gives) is checked as held."""
     from ..identification.fit import FrictionValues
 
     true = FrictionValues.of(truth).as_dict()
@@ -284,6 +316,20 @@ def _parameter_checks(values: Any, fitted: tuple[str, ...], truth: AxisParams) -
     for name in ("M_eq", "a1", "a2", "f0", "da1", "da2", "a3", "a4"):
         if name not in fitted and true[name] == 0.0:
             continue
+        if name in held:
+            ok = found[name] == true[name]
+            out.append(
+                {
+                    "name": name,
+                    "true": true[name],
+                    "fitted": None,
+                    "held": found[name],
+                    "relative_error": None,
+                    "tolerance": 0.0,
+                    "pass": ok,
+                }
+            )
+            continue
         tolerance = M_TOLERANCE if name == "M_eq" else FRICTION_TOLERANCE
         scale = abs(true[name]) if true[name] else abs(true[beside[name]])
         error = (found[name] - true[name]) / scale if scale else math.inf
@@ -292,6 +338,7 @@ def _parameter_checks(values: Any, fitted: tuple[str, ...], truth: AxisParams) -
                 "name": name,
                 "true": true[name],
                 "fitted": found[name] if name in fitted else None,
+                "held": None,
                 "relative_error": error if name in fitted else None,
                 "tolerance": tolerance,
                 "pass": name in fitted and abs(error) <= tolerance,
@@ -318,6 +365,8 @@ def _print(result: dict[str, Any]) -> None:
         )
         for c in r["parameters"]:
             err = "dropped" if c["relative_error"] is None else f"{100 * c['relative_error']:+.2f} %"
+            if c["held"] is not None:
+                err = "held: given"
             fitted = "-" if c["fitted"] is None else f"{c['fitted']:.6g}"
             print(
                 f"    {c['name']:5} true {c['true']:>10.6g}  fitted {fitted:>10}  {err:>9} "
