@@ -273,7 +273,7 @@ def identify(
     structure = None  # with the selection: its choice, and the cogging orders given
     if selection is not None:
         structure = dataclasses.replace(selection.chosen, cogging_orders=s.extra.cogging_orders)
-    extra = s.extra if structure is None else dataclasses.replace(s.extra, **_extra_of(structure))
+    extra = s.extra if structure is None else _extra_for(s.extra, structure)
     ident = run.fit(extra, structure)
     found = auto_cogging_orders(ident.residuals, ident.extra) if s.extra.auto_cogging else ()
     if found:
@@ -286,7 +286,7 @@ def identify(
         dropped = tuple(t for t in dropped if t not in BASE_TERMS)
         if dropped:
             structure = without_terms(structure, dropped)
-            ident = run.fit(dataclasses.replace(ident.extra, **_extra_of(structure)), structure)
+            ident = run.fit(_extra_for(ident.extra, structure), structure)
     if structure is not None:
         choice = run.choice_of(structure, ident.fit.fitted)
     t_end = time.perf_counter()
@@ -339,8 +339,11 @@ def _parameters_of(terms: tuple[str, ...]) -> tuple[str, ...]:
     return ("M_eq", *(p for t in terms if t in TERMS for p in TERMS[t].parameters))
 
 
-def _extra_of(structure: Structure) -> dict[str, object]:
-    return {"stroke_terms": structure.stroke_terms, "cogging_orders": structure.cogging_orders}
+def _extra_for(extra: ExtraTerms, structure: Structure) -> ExtraTerms:
+    """``extra`` with the stroke terms and cogging orders of ``structure``."""
+    return dataclasses.replace(
+        extra, stroke_terms=structure.stroke_terms, cogging_orders=structure.cogging_orders
+    )
 
 
 AUTO_COGGING_RATIO = 20.0
