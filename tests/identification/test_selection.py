@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from axisflow.identification.refit import IdentifySettings, identify
 from axisflow.identification.report import report_json, report_markdown
-from axisflow.identification.selection import CandidateScore, Structure, choose, unsupported_terms
+from axisflow.identification.selection import CandidateScore, Structure, choose, fit_plan, unsupported_terms
 from axisflow.identification.uncertainty import Uncertainty
 from axisflow.model import cart_force, motor_torque
 
@@ -102,3 +102,22 @@ def test_fixed_terms_skip_the_selection(foreign_log):
     ident = identify([foreign_log], NOMINAL, settings)
     assert ident.selection is None and len(ident.fit.extra) == 6  # the six stroke terms, as given
     assert report_json(ident)["structure"]["chosen_by"] == "given"
+
+
+@pytest.mark.parametrize(
+    ("law", "given_f0", "fitted", "zero"),
+    [
+        ((), False, ("M_eq", "a1", "a2"), ("f0", "da1", "da2", "a3", "a4")),
+        (("offset", "asymmetry"), False, ("M_eq", "a1", "a2", "f0", "da2"), ("da1", "a3", "a4")),
+        # f0 given (gravity on a known incline): held at its value, and the Coulomb asymmetry is fitted
+        (("asymmetry", "atan"), True, ("M_eq", "a1", "a2", "da1", "da2", "a3", "a4"), ()),
+    ],
+)
+def test_a_structures_plan_fits_its_terms_and_switches_the_others_off(law, given_f0, fitted, zero):
+    nominal = NOMINAL.replace(f0=-30.0, da1=4.0, da2=9.0) if given_f0 else NOMINAL.replace(da1=4.0, da2=9.0)
+    given = frozenset({"m", "a1", "f0"} if given_f0 else {"m", "a1"})
+    names, start = fit_plan(Structure(law), nominal, given, speed_m_s=0.5)
+    assert names == fitted
+    assert all(getattr(start, p) == 0.0 for p in zero)  # off: never another axis's nominal value
+    assert start.f0 == (-30.0 if given_f0 else 0.0)
+    assert set(start.terms) == {"coulomb", "viscous", *law, *(("offset",) if given_f0 else ())}
