@@ -43,7 +43,6 @@ SNIFF_LINES = 50
 _NUMBER = re.compile(
     r"^[+-]?(\d+([.,]\d*)?|[.,]\d+)([eE][+-]?\d+)?$|^[+-]?(nan|inf|infinity)$", re.IGNORECASE
 )
-_INTEGER = re.compile(r"^[+-]?\d+$")
 _KNOWN_UNITS = (
     {u for table in SIGNAL_UNITS.values() for u in table} | set(UNIT_ALIASES) | {"counts", "counts/s"}
 )
@@ -130,12 +129,21 @@ def read_csv(path: Path, options: CsvOptions) -> ForeignTable:
     if not lines:
         raise ForeignLogError(f"{path} holds no data lines (only blank lines and comments)")
     delimiter, decimal = _sniff(path, [line for _, line in lines[-SNIFF_LINES:]], options)
-    rows = [_split(line, delimiter) for _, line in lines]
+    texts = [line for _, line in lines]
+    rows = (
+        [line.split() for line in texts] if delimiter == " " else list(csv.reader(texts, delimiter=delimiter))
+    )
     width = len(rows[-1])
     first = next(  # the first data row: data run from there to the end of the file
         k for k, row in enumerate(rows) if len(row) == width and all(_is_number(f, decimal) for f in row)
     )
-    _check_data(path, lines, rows, first, width, decimal)
+    numbers = [number for number, _ in lines[first:]]
+    data = rows[first:]
+    ragged = next((i for i, row in enumerate(data) if len(row) != width), None)
+    if ragged is not None:
+        raise ForeignLogError(
+            f"{path} line {numbers[ragged]} has {len(data[ragged])} fields, the data lines {width}"
+        )
     header: list[list[str]] = []
     k = first - 1
     while k >= 0 and len(rows[k]) == width:
@@ -144,28 +152,19 @@ def read_csv(path: Path, options: CsvOptions) -> ForeignTable:
     units_row = header[-1] if len(header) >= 2 and _is_units_row(header[-1]) else None
     names_row = (header[-2] if units_row is not None else header[-1]) if header else None
     names, units = _names(path, names_row, units_row, width)
-    data = rows[first:]
-    columns = {name: _column([row[j] for row in data], decimal) for j, name in enumerate(names)}
+    columns = {}
+    for j, name in enumerate(names):
+        fields = [row[j] for row in data]
+        try:
+            columns[name] = _column(fields, decimal)
+        except ValueError:
+            i = next(i for i, f in enumerate(fields) if not _is_number(f, decimal))
+            raise ForeignLogError(
+                f"{path} line {numbers[i]}, column {j + 1}: {fields[i].strip()!r} is not a number"
+            ) from None
     return ForeignTable(
-        path=path,
-        format="csv",
-        columns=columns,
-        units=units,
-        lines=np.array([number for number, _ in lines[first:]], dtype=np.int64),
+        path=path, format="csv", columns=columns, units=units, lines=np.array(numbers, dtype=np.int64)
     )
-
-
-def _check_data(
-    path: Path, lines: list[tuple[int, str]], rows: list[list[str]], first: int, width: int, decimal: str
-) -> None:
-    """Every row from ``first`` on has ``width`` numbers; else an error naming the first line that
-    has not."""
-    for (number, _line), row in zip(lines[first:], rows[first:], strict=True):
-        if len(row) != width:
-            raise ForeignLogError(f"{path} line {number} has {len(row)} fields, the data lines {width}")
-        for j, f in enumerate(row):
-            if not _is_number(f, decimal):
-                raise ForeignLogError(f"{path} line {number}, column {j + 1}: {f.strip()!r} is not a number")
 
 
 def _names(
@@ -189,13 +188,14 @@ def _names(
 
 
 def _column(fields: list[str], decimal: str) -> np.ndarray:
-    """The numbers of one column: int64 if every field is an integer, else float64 (empty: NaN)."""
-    texts = [f.strip() for f in fields]
-    if texts and all(_INTEGER.match(t) for t in texts):
-        try:
-            return np.array([int(t) for t in texts], dtype=np.int64)
-        except OverflowError:
-            pass  # beyond int64: read as floats
+    """The numbers of one column: int64 if every field is an integer, else float64 (empty: NaN); a
+    ``ValueError`` if a field is not a number."""
+    texts = np.array([f.strip() for f in fields], dtype="U")
+    try:
+        return texts.astype(np.int64)
+    except (ValueError, OverflowError):
+        pass  # not all integers (or beyond int64): floats
     if decimal == ",":
-        texts = [t.replace(",", ".") for t in texts]
-    return np.array([t or "nan" for t in texts], dtype="U").astype(np.float64)
+        texts = np.char.replace(texts, ",", ".")
+    texts[texts == ""] = "nan"
+    return texts.astype(np.float64)
