@@ -474,6 +474,19 @@ def _rms(x: np.ndarray) -> float:
     return float(np.sqrt(np.mean(x * x))) if x.size else math.nan
 
 
+SEPARATION_REASONS = {
+    frozenset(("a1", "a3")): (
+        ": a3·atan(a4·v) is nearly the constant a3·π/2 above |v| ≈ 3/a4, where it adds to a1; only time "
+        "at low speed tells them apart (a1 + a3·π/2 stays determined)"
+    ),
+    frozenset(
+        ("a2", "a3")
+    ): ": the atan term's slope stands in for viscous friction over the speeds the log covers",
+    frozenset(("f0", "da1")): ": while the axis moves both are one constant force per direction",
+}
+"""why two parameters are hard to tell apart, where the physics says (docs/identification.md)"""
+
+
 def _term_of(name: str) -> str:
     """The term a parameter (or coefficient) belongs to (``inertia`` for M_eq)."""
     if name == "M_eq":
@@ -507,16 +520,19 @@ def _notes(scores: Sequence[CandidateScore], chosen: CandidateScore, given: bool
             "constant force per direction; give f0 in the parameter file (e.g. gravity on a known incline) "
             "to fit da1"
         )
-    richest = max((c for c in scores if c.converged), key=lambda c: c.parameters, default=None)
-    if richest is not None:
-        seen = set()
-        for a, b, rho in richest.flagged:
-            pair = (_term_of(a), _term_of(b))
-            if pair[0] == pair[1] or pair in seen:
+    strongest: dict[tuple[str, str], tuple[str, str, float, str]] = {}
+    for c in scores:  # each pair of parameters of different terms, where its correlation is strongest
+        if not c.converged:
+            continue
+        for a, b, rho in c.flagged:
+            if _term_of(a) == _term_of(b):
                 continue
-            seen.add(pair)
-            notes.append(
-                f"the data cannot separate {a} ({pair[0]}) from {b} ({pair[1]}): correlation {rho:+.3f} "
-                f"in {richest.structure.label}"
-            )
+            if (a, b) not in strongest or abs(rho) > abs(strongest[(a, b)][2]):
+                strongest[(a, b)] = (a, b, rho, c.structure.label)
+    for a, b, rho, label in strongest.values():
+        why = SEPARATION_REASONS.get(frozenset((a, b)), "")
+        notes.append(
+            f"the data cannot separate {a} ({_term_of(a)}) from {b} ({_term_of(b)}): correlation {rho:+.3f} "
+            f"in {label}{why}"
+        )
     return notes
