@@ -2,7 +2,8 @@
 
 :func:`identify` reads the joint of every log (:mod:`.signals`: on the drive's sampling grid, holes
 counted), prepares it (:mod:`.preparation`: filtered, differentiated, what holes, stops and saturation
-touch left out), builds the columns of the extra terms (:mod:`.extra_terms`: Coulomb friction along the
+touch left out), chooses the terms the data support unless they are fixed (:mod:`.selection`,
+``--terms auto``; fixed terms: :mod:`.fit_terms`), builds the columns of the extra terms (:mod:`.extra_terms`: Coulomb friction along the
 stroke by default, cogging orders if asked), estimates the torque/position time offset unless it is
 given (:mod:`.alignment`, with its σ, or "not resolvable"), fits eq. (1)'s chosen parameters and the
 extra terms by SQP (:func:`.fit.fit_window`, with σ and correlations), and judges the result: the
@@ -12,6 +13,8 @@ left out of the fit), and what the model leaves unexplained (:mod:`.residuals`: 
 residual's peaks in Hz and in cycles per motor revolution). With ``--cogging auto`` (the default), a
 residual peak that stands far out at a whole number of cycles per motor revolution is cogging: the
 fit is done again with those orders taken in (:func:`auto_cogging_orders`), and the report says so.
+With the selection, a term the final fit does not support (σ larger than its value) is dropped and
+the fit done again without it.
 
 Errors are measured minus model effort at every usable sample (1 kHz, not decimated), both through the
 same zero-phase filter as the fit (:mod:`.preparation`): a drive's torque carries content above the
