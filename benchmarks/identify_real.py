@@ -43,6 +43,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..arguments import non_negative_int, positive_int
+
 if TYPE_CHECKING:
     from ..identification.preparation import PreparedLog
     from ..model import AxisParams
@@ -70,8 +72,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=None,
         help="parameter files of the simulated axes (default: docs/axes/*.toml and the packaged axis)",
     )
-    parser.add_argument("--laps", type=int, default=4, help="laps of the EMPS-like logs (default 4: ~25 s)")
-    parser.add_argument("--seed", type=int, default=0, help="noise seed of the fit logs (validation: +1)")
+    parser.add_argument(
+        "--laps", type=positive_int, default=4, help="laps of the EMPS-like logs (default 4: ~25 s)"
+    )
+    parser.add_argument(
+        "--seed", type=non_negative_int, default=0, help="noise seed of the fit logs (validation: +1)"
+    )
 
 
 def _say(args: argparse.Namespace, text: str) -> None:
