@@ -3,9 +3,10 @@
 :func:`identify` reads the joint of every log (:mod:`.signals`: on the drive's sampling grid, holes
 counted), prepares it (:mod:`.preparation`: filtered, differentiated, what holes, stops and saturation
 touch left out), chooses the terms the data support unless they are fixed (:mod:`.selection`,
-``--terms auto``; fixed terms: :mod:`.fit_terms`), builds the columns of the extra terms (:mod:`.extra_terms`: Coulomb friction along the
-stroke by default, cogging orders if asked), estimates the torque/position time offset unless it is
-given (:mod:`.alignment`, with its σ, or "not resolvable"), fits eq. (1)'s chosen parameters and the
+``--terms auto``; fixed terms: :mod:`.fit_terms`), builds the columns of the extra terms
+(:mod:`.extra_terms`: Coulomb friction along the stroke, cogging orders), estimates the
+torque/position time offset unless it is given (:mod:`.alignment`, with its σ, or "not
+resolvable"), fits eq. (1)'s chosen parameters and the
 extra terms by SQP (:func:`.fit.fit_window`, with σ and correlations), and judges the result: the
 effort error of the refit and of the nominal parameters side by side, on the fitted samples and on
 validation samples (a separate log, ``validate``, or the last ``holdout`` fraction of each log, then
@@ -397,8 +398,14 @@ class _FitPass:
 
     def choice_of(self, structure: Structure, fitted: tuple[str, ...]) -> FitChoice:
         """What a fit of ``structure`` had on, fitted and held, in the terms of :mod:`.fit_terms`."""
-        _names, start = fit_plan(structure, self.nominal, self.settings.given, self.speed_m_s)
-        held = tuple(n for n in PARAMETERS if n not in fitted and n in _parameters_of(start.terms))
+        given = self.settings.given
+        _names, start = fit_plan(structure, self.nominal, given, self.speed_m_s)
+        # held: the file's values a term on keeps (a given f0); da1 = 0 beside a fitted f0 is no value
+        # of the file's but the convention that f0 takes the constant per direction
+        in_model = _parameters_of(start.terms)
+        held = tuple(
+            n for n in PARAMETERS if n not in fitted and n in in_model and (given is None or n in given)
+        )
         switched = tuple(t for t in self.nominal.terms if t not in start.terms)
         return FitChoice(start, start.terms, fitted, held, switched)
 

@@ -13,20 +13,19 @@ from __future__ import annotations
 import re
 from typing import TYPE_CHECKING, Any
 
-from .selection import RULE, Structure
+from .selection import RULE
 
 if TYPE_CHECKING:
     from .refit import Identification
 
 
 def structure_json(ident: Identification) -> dict[str, Any]:
-    chosen = ident.selection.chosen if ident.selection else None
-    if chosen is not None:
-        final = Structure(chosen.law, ident.extra.stroke_terms, ident.extra.cogging_orders)
-        terms = list(final.terms)
-    else:
-        terms = list(ident.fit.fitted) + list(ident.extra.names)
-    return {"terms": terms, "chosen_by": "auto" if chosen else "given", "dropped": list(ident.dropped)}
+    """The terms of the final fit: the law's that are on (fitted, or held at the file's value), then
+    ``stroke`` and ``cogging`` if taken in."""
+    law = ident.choice.terms if ident.choice is not None else ident.params.terms
+    extra = ["stroke"] * bool(ident.extra.stroke_terms) + ["cogging"] * bool(ident.extra.cogging_orders)
+    chosen_by = "auto" if ident.selection is not None else "given"
+    return {"terms": [*law, *extra], "chosen_by": chosen_by, "dropped": list(ident.dropped)}
 
 
 def selection_json(ident: Identification) -> dict[str, Any] | None:
