@@ -296,6 +296,15 @@ def choose(candidates: Sequence[CandidateScore]) -> tuple[CandidateScore, Candid
     return chosen, best, threshold
 
 
+def fold_labels(samples: int, span_s: float, folds: int = FOLDS) -> np.ndarray:
+    """The fold of each of ``samples`` samples in time order spanning ``span_s`` of log: contiguous
+    blocks of at least :data:`MIN_BLOCK_S` (at most :data:`BLOCKS_PER_FOLD` a fold), dealt to the
+    folds in turn (module docstring)."""
+    per_fold = min(BLOCKS_PER_FOLD, max(1, int(span_s / (folds * MIN_BLOCK_S))))
+    blocks = folds * per_fold
+    return (np.arange(samples) * blocks // samples) % folds
+
+
 class _SelectionData:
     """The samples every candidate is fitted and scored on: thinned fit samples of the fit logs, labelled
     by block (0 … FOLDS−1), then those of each validation log (labelled FOLDS, FOLDS+1, …)."""
@@ -320,13 +329,10 @@ class _SelectionData:
         self.val_parts = [p[::s] for p, s in zip(val_parts, val_step, strict=True)]
         self.logs = list(logs) + list(val_logs)
         self.parts = self.fit_parts + self.val_parts
-        span_s = sum(
+        spans = [
             float(np.ptp(log.signals.t_s[p])) for log, p in zip(logs, self.fit_parts, strict=True) if p.size
-        )
-        per_fold = min(BLOCKS_PER_FOLD, max(1, int(span_s / (folds * MIN_BLOCK_S))))
-        blocks = folds * per_fold
-        order = np.arange(n_fit)  # the samples in time order (logs in their order)
-        labels = [(order * blocks // n_fit) % folds]  # contiguous blocks dealt to the folds in turn
+        ]
+        labels = [fold_labels(n_fit, sum(spans), folds)]
         labels += [np.full(p.size, folds + i) for i, p in enumerate(self.val_parts)]
         self.labels = np.concatenate(labels)
         self.folds = folds

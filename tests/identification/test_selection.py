@@ -7,7 +7,14 @@ import numpy as np
 import pytest
 from axisflow.identification.refit import IdentifySettings, identify
 from axisflow.identification.report import report_json, report_markdown
-from axisflow.identification.selection import CandidateScore, Structure, choose, fit_plan, unsupported_terms
+from axisflow.identification.selection import (
+    CandidateScore,
+    Structure,
+    choose,
+    fit_plan,
+    fold_labels,
+    unsupported_terms,
+)
 from axisflow.identification.uncertainty import Uncertainty
 from axisflow.model import cart_force, motor_torque
 
@@ -121,3 +128,21 @@ def test_a_structures_plan_fits_its_terms_and_switches_the_others_off(law, given
     assert all(getattr(start, p) == 0.0 for p in zero)  # off: never another axis's nominal value
     assert start.f0 == (-30.0 if given_f0 else 0.0)
     assert set(start.terms) == {"coulomb", "viscous", *law, *(("offset",) if given_f0 else ())}
+
+
+@pytest.mark.parametrize(("span_s", "blocks"), [(25.0, 10), (133.0, 20), (3600.0, 20), (9.9, 5), (4.0, 5)])
+def test_folds_are_contiguous_blocks_dealt_in_turn(span_s, blocks):
+    labels = fold_labels(1000, span_s)
+    changes = np.flatnonzero(np.diff(labels)) + 1
+    assert len(changes) == blocks - 1  # contiguous blocks, each ≥ 2 s of log where the log allows
+    starts = np.r_[0, changes]
+    assert list(labels[starts]) == [i % 5 for i in range(blocks)]  # dealt to the five folds in turn
+    assert np.bincount(labels).tolist() == [200] * 5
+
+
+def test_a_holdout_is_scored_as_one_more_fold(foreign_log):
+    settings = IdentifySettings(**{**SETTINGS.__dict__, "holdout": 0.25})
+    sel = identify([foreign_log], NOMINAL, settings).selection
+    assert sel is not None and sel.validation_logs == 1
+    for c in sel.candidates:
+        assert len(c.fold_rms) == 5 and len(c.validation_rms) == 1 and len(c.scores) == 6
