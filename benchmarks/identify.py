@@ -165,14 +165,16 @@ def _print_table(r: dict) -> None:
     ratio = f"{base['read_s'] / i['read']:>6.1f}×" if base else f"{'':>7}"
     print(f"{'read (one topic)':28} {i['read']:>8.2f} {read_base} {ratio}")
     print(f"{'prepare (filter, masks)':28} {i['prepare']:>8.2f}")
+    print(f"{'select (the terms, --terms)':28} {i.get('select', 0.0):>8.2f}")
     print(f"{'solve (offset + SQP)':28} {i['solve']:>8.2f}")
     print(f"{'judge (errors, residuals)':28} {i.get('judge', 0.0):>8.2f}")
-    rest = i["prepare"] + i["solve"] + i.get("judge", 0.0)
+    rest = i["prepare"] + i.get("select", 0.0) + i["solve"] + i.get("judge", 0.0)
     total_base = f"{base['read_s'] + rest:>12.2f}" if base else f"{'–':>12}"
     ratio = f"{(base['read_s'] + rest) / i['total']:>6.1f}×" if base else ""
     print(f"{'total':28} {i['total']:>8.2f} {total_base} {ratio}")
     print(
-        f"{'the whole command':28} {i['process_s']:>8.2f}   (Python start-up, imports and writing the report)"
+        f"{'the whole command':28} {i['process_s']:>8.2f}   (Python start-up, imports and writing the report "
+        "and the per-sample table)"
     )
     rss_base = f"{base['peak_rss_mb']:.0f} MB" if base else "–"
     print(f"peak RSS: identify {i['peak_rss_mb']:.0f} MB (per-message read alone: {rss_base})")

@@ -156,7 +156,7 @@ def _cogging_columns(
 
     n = len(log.signals.t_s)
     rate = log.signals.rate_hz
-    per_metre = nominal.i_r / nominal.r
+    per_metre = nominal.transmission.radians_per_metre
     theta = log.signals.position_m * per_metre
     omega = np.abs(log.velocity_m_s) * per_metre
     sos = butter(preparation.order, preparation.cutoff_hz, fs=rate, output="sos")

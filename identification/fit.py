@@ -3,10 +3,13 @@
 With the prepared samples (ẋ_k, ẍ_k, F_k: filtered, decimated; :mod:`.preparation`) and k_e the joint's
 effort per cart force (r/i_r for a motor joint), the residuals and the problem are
 
-    e_k(p) = k_e·(F_k − M_eq·ẍ_k − F_c(ẋ_k; a1, a2, a3, a4) − X_k·β),   F_c of :mod:`axisflow.model.friction`
-    min_p  ½·Σ_k (e_k/σ_e)²  s.t.  a1 … a4 ≥ 0,  M_eq > 0,
+    e_k(p) = k_e·(F_k − M_eq·ẍ_k − F_c(ẋ_k; p) − X_k·β),   F_c of :mod:`axisflow.model.friction`
+    min_p  ½·Σ_k (e_k/σ_e)²  s.t.  a1 … a4 ≥ 0,  M_eq > 0  (f0, da1, da2 of either sign),
+           a1 ± da1 ≥ 0,  a2 ± da2 ≥ 0  (each direction's friction, where an asymmetry is fitted),
 
-over the parameters chosen with ``fit`` (the rest stay at their nominal values) and the coefficients β
+F_c with every term of the law (f0 + a1·sign ẋ + da1·|sign ẋ| + a2·ẋ + da2·|ẋ| + a3·atan(a4·ẋ)), over
+the parameters chosen with ``fit`` (the rest stay at their start values: zero for a term that is off,
+:mod:`.fit_terms` decides) and the coefficients β
 of any extra linear terms X (:mod:`.extra_terms`: friction along the stroke, cogging; unbounded), σ_e
 the RMS of the measured effort (so the objective starts near 1). The variables are scaled,
 p_i = θ_i·|p_i,nominal| (β by the terms' typical sizes); the solve starts from the nominal values, or
@@ -38,25 +41,41 @@ from .uncertainty import Uncertainty, estimate_uncertainty
 if TYPE_CHECKING:
     from ..model import AxisParams
 
-PARAMETERS: tuple[str, ...] = ("M_eq", "a1", "a2", "a3", "a4")
-"""what a refit may estimate, in report order"""
-PARAMETER_UNITS = {"M_eq": "kg", "a1": "N", "a2": "N·s/m", "a3": "N", "a4": "s/m"}
+PARAMETERS: tuple[str, ...] = ("M_eq", "a1", "a2", "a3", "a4", "f0", "da1", "da2")
+"""what a refit may estimate, in report order (the paper's five first)"""
+PARAMETER_UNITS = {
+    "M_eq": "kg",
+    "a1": "N",
+    "a2": "N·s/m",
+    "a3": "N",
+    "a4": "s/m",
+    "f0": "N",
+    "da1": "N",
+    "da2": "N·s/m",
+}
+PAPER_PARAMETERS: tuple[str, ...] = PARAMETERS[:5]
+"""eq. (1)'s parameters: M_eq and a1…a4 (what a fit estimates unless told otherwise)"""
+SIGNED_PARAMETERS = frozenset({"f0", "da1", "da2"})
+"""the parameters of either sign (no lower bound in the fit)"""
 DEFAULT_MAX_ITER = 50
 
 
 @dataclass(frozen=True)
 class FrictionValues:
-    """The five model parameters of eq. (1) a fit works with (SI units)."""
+    """The model parameters a fit works with (SI units): M_eq and the friction law's."""
 
     M_eq: float
     a1: float
     a2: float
     a3: float
     a4: float
+    f0: float = 0.0
+    da1: float = 0.0
+    da2: float = 0.0
 
     @classmethod
     def of(cls, params: AxisParams) -> FrictionValues:
-        return cls(params.M_eq, params.a1, params.a2, params.a3, params.a4)
+        return cls(params.M_eq, params.a1, params.a2, params.a3, params.a4, params.f0, params.da1, params.da2)
 
     def as_dict(self) -> dict[str, float]:
         return {name: getattr(self, name) for name in PARAMETERS}
@@ -127,7 +146,7 @@ class FrictionFit:
         acceleration_m_s2: np.ndarray,
         effort_per_force: float,
         nominal: AxisParams,
-        fit: tuple[str, ...] = PARAMETERS,
+        fit: tuple[str, ...] = PAPER_PARAMETERS,
         max_iter: int = DEFAULT_MAX_ITER,
         extra: np.ndarray | None = None,
         extra_names: tuple[str, ...] = (),
@@ -147,8 +166,12 @@ class FrictionFit:
             )
         self.extra_names = tuple(extra_names)
         start = self.initial.as_dict()
+        # a start of zero (a term switched on from nothing) is scaled by the friction's size
+        typical = max(abs(start["a1"]), abs(start["a3"]), 1.0)
         self._scale = np.array(
-            [max(abs(start[n]), 1e-3) for n in self.names] + list(extra_scales), dtype=float
+            [max(abs(start[n]), 0.05 * typical if n in SIGNED_PARAMETERS else 1e-3) for n in self.names]
+            + list(extra_scales),
+            dtype=float,
         )
         n_vars = len(self.names) + len(self.extra_names)
         theta = ca.MX.sym("theta", n_vars)
@@ -157,29 +180,47 @@ class FrictionFit:
             value[n] = theta[i] * self._scale[i]
         force = ca.MX.sym("force", n_samples)
         sigma = ca.MX.sym("sigma")
+        kept = ca.MX.sym("kept", n_samples)  # 1: the sample is fitted, 0: held out (scored, not fitted)
         v, a = ca.DM(velocity_m_s), ca.DM(acceleration_m_s2)
         sign_v = ca.DM(np.sign(velocity_m_s))
         k = effort_per_force
-        friction = friction_expression(v, sign_v, value["a1"], value["a2"], value["a3"], value["a4"], ca.atan)
+        friction = friction_expression(
+            v,
+            sign_v,
+            value["a1"],
+            value["a2"],
+            value["a3"],
+            value["a4"],
+            ca.atan,
+            f0=value["f0"],
+            da1=value["da1"],
+            da2=value["da2"],
+        )
         residual = k * (force - value["M_eq"] * a - friction)
         if self.extra_names:
             beta = theta[len(self.names) :] * ca.DM(self._scale[len(self.names) :])
             residual = residual - k * ca.mtimes(ca.DM(columns), beta)
-        weight = 1.0 / (sigma * sigma * n_samples)
+        weight = 1.0 / (sigma * sigma * ca.sum1(kept))
         jac = ca.jacobian(residual, theta)
         lam_f = ca.MX.sym("lam_f")
-        data = ca.vertcat(force, sigma)
+        data = ca.vertcat(force, sigma, kept)
+        # each direction's friction stays ≥ 0 (a ± da ≥ 0) where an asymmetry is fitted: linear in θ
+        pairs = (("a1", "da1"), ("a2", "da2"))
+        sides = [value[a] + s * value[d] for a, d in pairs if d in self.names for s in (1, -1)]
+        g = ca.vertcat(*sides) if sides else ca.MX(0, 1)
+        g_jacobian = ca.Function("g_jacobian", [theta], [ca.jacobian(g, theta)])
+        self._g_jacobian = np.array(g_jacobian(np.zeros(n_vars)))
         hess_lag = ca.Function(
             "gauss_newton",
-            [theta, data, lam_f, ca.MX.sym("lam_g", 0)],
-            [lam_f * weight * ca.mtimes(jac.T, jac)],
+            [theta, data, lam_f, ca.MX.sym("lam_g", len(sides))],
+            [lam_f * weight * ca.mtimes(jac.T, ca.mtimes(ca.diag(kept), jac))],
             ["x", "p", "lam_f", "lam_g"],
             ["hess_gamma_x_x"],
         )
         self._solver = ca.nlpsol(
             "friction_fit",
             "sqpmethod",
-            {"x": theta, "p": data, "f": 0.5 * weight * ca.sumsqr(residual)},
+            {"x": theta, "p": data, "f": 0.5 * weight * ca.dot(kept, residual * residual), "g": g},
             {
                 "qpsol": "qrqp",
                 "qpsol_options": {"print_iter": False, "print_header": False, "error_on_fail": False},
@@ -195,29 +236,45 @@ class FrictionFit:
         )
         self._evaluate = ca.Function("residual_and_jacobian", [theta, force], [residual, jac])
         self._lower = np.array(
-            [1e-6 if name == "M_eq" else 0.0 for name in self.names] + [-np.inf] * len(self.extra_names)
+            [1e-6 if name == "M_eq" else -np.inf if name in SIGNED_PARAMETERS else 0.0 for name in self.names]
+            + [-np.inf] * len(self.extra_names)
         )
+
         self._k = k
 
     def solve(
-        self, force_n: np.ndarray, start: FrictionValues | None = None, start_extra: np.ndarray | None = None
+        self,
+        force_n: np.ndarray,
+        start: FrictionValues | None = None,
+        start_extra: np.ndarray | None = None,
+        kept: np.ndarray | None = None,
     ) -> FitResult:
         """Fit the measured cart force ``force_n`` [N] (one value per sample of the kinematics), starting
-        from the nominal values (β = 0) or from ``start`` (and ``start_extra``): a warm start."""
-        sigma = float(np.sqrt(np.mean((self._k * np.asarray(force_n)) ** 2))) or 1.0
+        from the nominal values (β = 0) or from ``start`` (and ``start_extra``): a warm start. ``kept``
+        (bool, one per sample; None: all) fits only those samples; the result's residuals cover every
+        sample (the others are held out: scored, not fitted)."""
+        mask = np.ones(np.size(force_n), dtype=bool) if kept is None else np.asarray(kept, dtype=bool)
+        if not mask.any():
+            raise IdentificationError("no sample is kept for the fit")
+        sigma = float(np.sqrt(np.mean((self._k * np.asarray(force_n)[mask]) ** 2))) or 1.0
         first = (start or self.initial).as_dict()
         beta0 = (
             np.zeros(len(self.extra_names)) if start_extra is None else np.asarray(start_extra, dtype=float)
         )
         x0 = np.r_[[first[n] for n in self.names], beta0] / self._scale
         t0 = time.perf_counter()
-        solution = self._solver(x0=x0, lbx=self._lower, p=np.r_[force_n, sigma])
+        solution = self._solver(
+            x0=x0, lbx=self._lower, lbg=0.0, ubg=np.inf, p=np.r_[force_n, sigma, mask.astype(float)]
+        )
         elapsed = time.perf_counter() - t0
         stats = self._solver.stats()
-        theta_opt = np.array(solution["x"]).ravel()
+        # the QP steps may end a hair outside a bound (−1e-13): the bound is the value
+        theta_opt = np.maximum(np.array(solution["x"]).ravel(), self._lower)
         found = self.initial.as_dict()
         for i, name in enumerate(self.names):
             found[name] = float(theta_opt[i] * self._scale[i])
+        for a, d in (("a1", "da1"), ("a2", "da2")):  # and a hair outside a ± da ≥ 0 is on it
+            found[d] = float(np.clip(found[d], -found[a], found[a]))
         offset = len(self.names)
         extra = {
             n: float(theta_opt[offset + j] * self._scale[offset + j]) for j, n in enumerate(self.extra_names)
@@ -229,7 +286,9 @@ class FrictionFit:
         if not success and status == "Search_Direction_Becomes_Too_Small":
             # the QP step fell below the step tolerance: converged if the point is stationary (KKT with
             # the bounds) for the normalised objective, to 1e-7
-            grad = jac_theta.T @ residuals / (sigma * sigma * residuals.size)
+            grad = jac_theta[mask].T @ residuals[mask] / (sigma * sigma * np.count_nonzero(mask))
+            if self._g_jacobian.size:  # the Lagrangian's gradient: the constraints' multipliers added
+                grad = grad + self._g_jacobian.T @ np.array(solution["lam_g"]).ravel()
             at_bound = theta_opt <= self._lower + 1e-12
             success = bool(np.all(np.where(at_bound, grad >= -1e-7, np.abs(grad) <= 1e-7)))
         return FitResult(
@@ -249,7 +308,7 @@ class FrictionFit:
 def fit_parameters(
     samples: FitSamples,
     nominal: AxisParams,
-    fit: tuple[str, ...] = PARAMETERS,
+    fit: tuple[str, ...] = PAPER_PARAMETERS,
     max_iter: int = DEFAULT_MAX_ITER,
 ) -> FitResult:
     """Estimate the ``fit`` parameters from ``samples`` starting at ``nominal`` (see the module doc)."""
@@ -294,7 +353,7 @@ class WindowFit:
 def fit_window(
     samples: FitSamples,
     nominal: AxisParams,
-    fit: tuple[str, ...] = PARAMETERS,
+    fit: tuple[str, ...] = PAPER_PARAMETERS,
     start: FitResult | None = None,
     extra_names: tuple[str, ...] = (),
     extra_scales: tuple[float, ...] = (),

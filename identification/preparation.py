@@ -95,6 +95,8 @@ class PreparedLog:
     near_holes: int = 0
     """samples left out because a filter output or derivative there reaches a hole (or a non-finite
     sample), inside the trimmed span and not already left out as stationary or saturated"""
+    left_out: np.ndarray | None = None
+    """why each sample is left out (uint8, an index into :data:`LEFT_OUT`; 0: usable)"""
 
     def force_at(self, indices: np.ndarray, delay_s: float = 0.0) -> np.ndarray:
         """The filtered force at samples ``indices``, taken ``delay_s`` later (interpolated): a drive
@@ -141,6 +143,11 @@ def prepare(signals: JointSignals, settings: PreparationSettings, effort_limit: 
     holes = _dilate(~signals.finite | ~signals.observed, reach) & ~still & ~saturated
     moving = inside & ~still & ~saturated
     usable = moving & ~holes
+    left_out = np.zeros(t.size, dtype=np.uint8)  # the first reason that applies, in LEFT_OUT's order
+    for code, mask in reversed(
+        list(enumerate((~signals.observed, ~signals.finite, ~inside, still, saturated, holes), start=1))
+    ):
+        left_out[mask] = code
     return PreparedLog(
         signals=signals,
         position_m=x,
@@ -153,7 +160,14 @@ def prepare(signals: JointSignals, settings: PreparationSettings, effort_limit: 
         stationary=int(np.count_nonzero(inside & still)),
         saturated=int(np.count_nonzero(inside & saturated)),
         near_holes=int(np.count_nonzero(inside & holes)),
+        left_out=left_out,
     )
+
+
+LEFT_OUT = ("", "missing", "not finite", "edge", "stationary", "saturated", "near a hole")
+"""why a sample is left out of the fit (:attr:`PreparedLog.left_out`): a sample missing from the log
+(filled by interpolation), not finite, within ``trim_s`` of a log's end, stationary (or within
+``guard_s`` of it), saturated (or within ``guard_s``), within a filter's reach of a hole"""
 
 
 @functools.lru_cache(maxsize=16)

@@ -2,9 +2,11 @@
 
 :func:`identify` reads the joint of every log (:mod:`.signals`: on the drive's sampling grid, holes
 counted), prepares it (:mod:`.preparation`: filtered, differentiated, what holes, stops and saturation
-touch left out), builds the columns of the extra terms (:mod:`.extra_terms`: Coulomb friction along the
-stroke by default, cogging orders if asked), estimates the torque/position time offset unless it is
-given (:mod:`.alignment`, with its σ, or "not resolvable"), fits eq. (1)'s chosen parameters and the
+touch left out), chooses the terms the data support unless they are fixed (:mod:`.selection`,
+``--terms auto``; fixed terms: :mod:`.fit_terms`), builds the columns of the extra terms
+(:mod:`.extra_terms`: Coulomb friction along the stroke, cogging orders), estimates the
+torque/position time offset unless it is given (:mod:`.alignment`, with its σ, or "not
+resolvable"), fits eq. (1)'s chosen parameters and the
 extra terms by SQP (:func:`.fit.fit_window`, with σ and correlations), and judges the result: the
 effort error of the refit and of the nominal parameters side by side, on the fitted samples and on
 validation samples (a separate log, ``validate``, or the last ``holdout`` fraction of each log, then
@@ -12,6 +14,8 @@ left out of the fit), and what the model leaves unexplained (:mod:`.residuals`: 
 residual's peaks in Hz and in cycles per motor revolution). With ``--cogging auto`` (the default), a
 residual peak that stands far out at a whole number of cycles per motor revolution is cogging: the
 fit is done again with those orders taken in (:func:`auto_cogging_orders`), and the report says so.
+With the selection, a term the final fit does not support (σ larger than its value) is dropped and
+the fit done again without it.
 
 Errors are measured minus model effort at every usable sample (1 kHz, not decimated), both through the
 same zero-phase filter as the fit (:mod:`.preparation`): a drive's torque carries content above the
@@ -33,12 +37,32 @@ from pathlib import Path
 import numpy as np
 
 from ..model import AxisParams, ParameterError
+from ..model.terms import TERMS, canonical_terms
 from .alignment import DelayEstimate, estimate_delay
 from .errors import IdentificationError
 from .extra_terms import DEFAULT_STROKE_TERMS, ExtraTerms, TermColumns, covered_stretch
-from .fit import PARAMETERS, FitResult, FrictionValues, WindowFit, check_fit_names, fit_window
+from .fit import (
+    PARAMETERS,
+    SIGNED_PARAMETERS,
+    FitResult,
+    FrictionValues,
+    WindowFit,
+    check_fit_names,
+    fit_window,
+)
+from .fit_terms import FitChoice, choose_parameters
 from .preparation import PreparationSettings, PreparedLog, fit_indices, fit_samples, prepare
 from .residuals import ResidualAnalysis, analyse_residuals, analysed_span
+from .selection import (
+    BASE_TERMS,
+    Selection,
+    Structure,
+    fit_plan,
+    select_structure,
+    typical_speed_m_s,
+    unsupported_terms,
+    without_terms,
+)
 from .signals import DEFAULT_JOINT, DEFAULT_TOPIC, JointKind, TimeWindow, joint_kind, load_joint
 from .uncertainty import Uncertainty
 
@@ -49,7 +73,14 @@ class IdentifySettings:
     joint: str = DEFAULT_JOINT
     joint_kind: str | None = None
     """motor or carriage; None: from the joint's name"""
-    fit: tuple[str, ...] = PARAMETERS
+    fit: tuple[str, ...] | None = None
+    """the parameters to fit (:data:`~.fit.PARAMETERS` names); None: every parameter of the terms
+    that are on (:mod:`.fit_terms`)"""
+    terms: tuple[str, ...] | None = None
+    """the friction law's terms that are on (:mod:`axisflow.model.terms` names); None: the parameter
+    file's (:mod:`.fit_terms`)"""
+    given: frozenset[str] | None = None
+    """the keys the user's own parameter file gives; None: every nominal value is the user's own"""
     preparation: PreparationSettings = field(default_factory=PreparationSettings)
     torque_delay_s: float | None = None
     """the torque/position offset [s]; None: estimated"""
@@ -60,9 +91,16 @@ class IdentifySettings:
     extra: ExtraTerms = field(default_factory=lambda: ExtraTerms(DEFAULT_STROKE_TERMS, auto_cogging=True))
     """terms beyond eq. (1): friction along the stroke, cogging (by default the orders the residual
     shows: :func:`auto_cogging_orders`)"""
+    select: bool = True
+    """choose the terms by the data (``--terms auto``, :mod:`.selection`): ``extra`` then offers the
+    stroke terms as a candidate, and its cogging orders join the chosen structure (kept if the final
+    fit supports them); False: fit ``fit`` and ``extra`` as they are"""
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "fit", check_fit_names(tuple(self.fit)))
+        if self.fit is not None:
+            object.__setattr__(self, "fit", check_fit_names(tuple(self.fit)))
+        if self.terms is not None:
+            object.__setattr__(self, "terms", canonical_terms(tuple(self.terms)))
         if not (math.isfinite(self.holdout) and 0.0 <= self.holdout < 0.9):
             raise IdentificationError(f"holdout = {self.holdout} must be a fraction in [0, 0.9)")
         if self.torque_delay_s is not None and not abs(self.torque_delay_s) <= 0.1:
@@ -120,6 +158,21 @@ class Identification:
     timing_s: dict[str, float]
     cogging_found: tuple[int, ...] = ()
     """cogging orders the first pass's residual showed and the fit then took in (``--cogging auto``)"""
+    choice: FitChoice | None = None
+    """the terms on, the parameters fitted and held (:mod:`.fit_terms`; with ``--terms auto``, the
+    selection's choice)"""
+    selection: Selection | None = None
+    """the candidates compared and the structure chosen (``--terms auto``; None: fixed terms)"""
+    dropped: tuple[str, ...] = ()
+    """terms the final fit did not support (σ larger than the value), dropped and fitted again without"""
+
+    @property
+    def at_bound(self) -> tuple[str, ...]:
+        """Fitted friction parameters stuck at their lower bound 0 (a1…a4): the log does not support
+        the term, or the model lacks another one; the report says so."""
+        values = self.fit.values.as_dict()
+        bounded = [n for n in self.fit.fitted if n not in SIGNED_PARAMETERS and n != "M_eq"]
+        return tuple(n for n in bounded if values[n] <= 0.0)
 
     @property
     def fit(self) -> FitResult:
@@ -142,7 +195,7 @@ class Identification:
     ) -> np.ndarray:
         """The model's cart force [N] at the samples ``idx`` of ``log`` (None: all): eq. (1) with the
         refit (or nominal) values, plus the extra terms (the refit's; none for the nominal model)."""
-        values = self.fit.initial if nominal else self.fit.values
+        values = FrictionValues.of(self.nominal) if nominal else self.fit.values
         v, a = (
             (log.velocity_m_s, log.acceleration_m_s2)
             if idx is None
@@ -201,6 +254,12 @@ def identify(
     s = settings or IdentifySettings()
     if s.holdout and validate:
         raise IdentificationError("give either validation logs or a holdout fraction, not both")
+    selecting = s.select and s.terms is None and s.fit is None
+    choice = None
+    if not selecting:  # fixed terms: what the file and --terms/--fit say (:mod:`.fit_terms`)
+        choice = choose_parameters(nominal, s.terms, s.fit, s.given)
+        nominal = choice.start
+        s = dataclasses.replace(s, fit=choice.fitted, terms=choice.terms, select=False)
     t0 = time.perf_counter()
     kind = joint_kind(s.joint, s.joint_kind)
     signals = [load_joint(p, s.topic, s.joint, nominal, kind.value, s.window) for p in paths]
@@ -213,22 +272,81 @@ def identify(
     parts = fit_indices(logs, s.preparation.fit_rate_hz, fit_keep)
     t_prepare = time.perf_counter()
     run = _FitPass(s, nominal, logs, val_logs, fit_keep, val_keep, parts)
-    ident = run.fit(s.extra)
+    selection = _select(run, s) if selecting else None
+    t_select = time.perf_counter()
+    structure = None  # with the selection: its choice, and the cogging orders given
+    if selection is not None:
+        structure = dataclasses.replace(selection.chosen, cogging_orders=s.extra.cogging_orders)
+    extra = s.extra if structure is None else _extra_for(s.extra, structure)
+    ident = run.fit(extra, structure)
     found = auto_cogging_orders(ident.residuals, ident.extra) if s.extra.auto_cogging else ()
     if found:
         orders = tuple(sorted(ident.extra.cogging_orders + found))
-        ident = run.fit(dataclasses.replace(ident.extra, cogging_orders=orders))
+        structure = None if structure is None else dataclasses.replace(structure, cogging_orders=orders)
+        ident = run.fit(dataclasses.replace(ident.extra, cogging_orders=orders), structure)
+    dropped: tuple[str, ...] = ()
+    if structure is not None:
+        dropped = unsupported_terms(structure, ident.fit.estimates, ident.uncertainty)
+        dropped = tuple(t for t in dropped if t not in BASE_TERMS)
+        if dropped:
+            structure = without_terms(structure, dropped)
+            ident = run.fit(_extra_for(ident.extra, structure), structure)
+    if structure is not None:
+        choice = run.choice_of(structure, ident.fit.fitted)
     t_end = time.perf_counter()
     return dataclasses.replace(
         ident,
+        choice=choice,
         cogging_found=found,
+        selection=selection,
+        dropped=dropped,
         timing_s={
             "read": t_read - t0,
             "prepare": t_prepare - t_read,
+            "select": t_select - t_prepare,
             "solve": run.solve_s,
             "judge": run.judge_s,
             "total": t_end - t0,
         },
+    )
+
+
+def _select(run: _FitPass, s: IdentifySettings) -> Selection:
+    """The structure the data support (:mod:`.selection`), scored on held-out blocks of the fit samples
+    and on the validation samples (validation logs, or each log's held-out last part)."""
+    rate = s.preparation.fit_rate_hz
+    if run.val_logs:
+        val_logs, val_parts = run.val_logs, [log.fit_indices(rate) for log in run.val_logs]
+    elif run.val_keep is not None:
+        val_logs, val_parts = (
+            run.logs,
+            [log.fit_indices(rate, k) for log, k in zip(run.logs, run.val_keep, strict=True)],
+        )
+    else:
+        val_logs, val_parts = [], []
+    return select_structure(
+        run.logs,
+        run.parts,
+        val_logs,
+        val_parts,
+        run.nominal,
+        s.preparation,
+        run.stretch,
+        s.extra.stroke_terms,
+        s.torque_delay_s,
+        given=s.given,
+        speed_m_s=run.speed_m_s,
+    )
+
+
+def _parameters_of(terms: tuple[str, ...]) -> tuple[str, ...]:
+    return ("M_eq", *(p for t in terms if t in TERMS for p in TERMS[t].parameters))
+
+
+def _extra_for(extra: ExtraTerms, structure: Structure) -> ExtraTerms:
+    """``extra`` with the stroke terms and cogging orders of ``structure``."""
+    return dataclasses.replace(
+        extra, stroke_terms=structure.stroke_terms, cogging_orders=structure.cogging_orders
     )
 
 
@@ -272,24 +390,44 @@ class _FitPass:
         self.logs, self.val_logs = logs, val_logs
         self.fit_keep, self.val_keep, self.parts = fit_keep, val_keep, parts
         self.stretch = covered_stretch(logs, parts)
+        self.speed_m_s = typical_speed_m_s(logs, parts)
         self.solve_s = 0.0
         """wall time of the offset searches and the fits [s]"""
         self.judge_s = 0.0
         """wall time of the errors and the residual analyses [s]"""
 
-    def fit(self, extra: ExtraTerms) -> Identification:
+    def choice_of(self, structure: Structure, fitted: tuple[str, ...]) -> FitChoice:
+        """What a fit of ``structure`` had on, fitted and held, in the terms of :mod:`.fit_terms`."""
+        given = self.settings.given
+        _names, start = fit_plan(structure, self.nominal, given, self.speed_m_s)
+        # held: the file's values a term on keeps (a given f0); da1 = 0 beside a fitted f0 is no value
+        # of the file's but the convention that f0 takes the constant per direction
+        in_model = _parameters_of(start.terms)
+        held = tuple(
+            n for n in PARAMETERS if n not in fitted and n in in_model and (given is None or n in given)
+        )
+        switched = tuple(t for t in self.nominal.terms if t not in start.terms)
+        return FitChoice(start, start.terms, fitted, held, switched)
+
+    def fit(self, extra: ExtraTerms, structure: Structure | None = None) -> Identification:
+        """Fit ``extra`` beside eq. (1)'s parameters: those of ``structure`` (from its starting values:
+        :func:`.selection.fit_plan`), or without one the settings' ``fit`` from the nominal values."""
         t0 = time.perf_counter()
         s, nominal, logs, parts = self.settings, self.nominal, self.logs, self.parts
+        if structure is None:
+            fit, start = s.fit or (), nominal
+        else:
+            fit, start = fit_plan(structure, nominal, s.given, self.speed_m_s)
         columns = [extra.columns(log, self.stretch, nominal, s.preparation) for log in logs]
         val_columns = [extra.columns(log, self.stretch, nominal, s.preparation) for log in self.val_logs]
         names, scales = extra.names, extra.scales(nominal)
         delay = None
         if s.torque_delay_s is None:
-            delay = estimate_delay(logs, parts, nominal, s.fit, columns, names, scales)
+            delay = estimate_delay(logs, parts, start, fit, columns, names, scales)
         delay_s = delay.value_s if delay is not None else s.torque_delay_s
         assert delay_s is not None
         samples = fit_samples(logs, parts, delay_s, columns)
-        window_fit = fit_window(samples, nominal, s.fit, extra_names=names, extra_scales=scales)
+        window_fit = fit_window(samples, start, fit, extra_names=names, extra_scales=scales)
         if not window_fit.success:
             result = window_fit.result
             raise IdentificationError(
@@ -298,7 +436,7 @@ class _FitPass:
         ident = Identification(
             settings=s,
             nominal=nominal,
-            params=refit_params(nominal, window_fit.values, window_fit.result.fitted),
+            params=refit_params(start, window_fit.values, window_fit.result.fitted),
             logs=tuple(logs),
             window_fit=window_fit,
             delay=delay,
@@ -359,7 +497,7 @@ def _residuals(ident: Identification, fit_keep: list[np.ndarray] | None) -> Resi
         idx = np.arange(end)
         model = ident.model_force(log, ident.columns[i], idx=idx)
         raw.append(k * (np.interp(t[:end] + ident.delay_s, t, log.signals.force_n) - model))
-        angle.append(log.signals.position_m[:end] * ident.nominal.i_r / ident.nominal.r)
+        angle.append(log.signals.position_m[:end] * ident.nominal.transmission.radians_per_metre)
     spectral = [mask[:end] for mask, end in zip(spectral, spans, strict=True)]
     p = ident.settings.preparation
     return analyse_residuals(raw, spectral, angle, rate, p.cutoff_hz, p.order)

@@ -12,14 +12,16 @@ for a carriage joint —, ``unexplained`` {rms_nm, rms_filtered_nm, noise_floor_
 noise_density_nm2_per_hz, floor_band_hz, fit_over_floor, validation_over_floor, peaks_hz
 [{frequency_hz, rms_nm, ratio}], peaks_order [{cycles_per_rev, rms_nm, ratio}], segments,
 order_segments}, ``solver`` {method, status, iterations, time_s}, ``timing_s`` {read, prepare,
-solve (offset searches and fits), judge (errors and residual analyses), total}, ``log`` {paths,
+select (the model selection), solve (offset searches and fits), judge (errors and residual
+analyses), total}, ``log`` {paths,
 topic, joint, joint_kind, samples,
 duration_s, truncated, stamp_jitter_s, window (null: whole logs, else {start_s, end_s, origin_ns}),
 drive (per log: what drove the axis, as its bridge recorded it; null if it did not)}, ``samples`` {total
 (grid points), used, fitted, stationary, saturated, trimmed, non_finite, missing, holes, longest_hole_s,
 near_holes}, ``velocity`` {used, logged, logged_lag_s}, ``uncertainty`` {method, samples,
 effective_samples, flagged}, ``torque_delay_s`` {value, estimated, estimate, std, resolvable, period},
-``preparation`` (the filter and exclusion settings), ``warnings``.
+``preparation`` (the filter and exclusion settings), ``warnings``; ``structure`` and ``selection``
+(:mod:`.selection_report`); ``effort_table`` {file, rows} (:mod:`.effort_table`).
 """
 
 from __future__ import annotations
@@ -31,9 +33,11 @@ from typing import Any
 import numpy as np
 
 from ..model import params_to_toml
+from .effort_table import EFFORT_TABLE
 from .fit import PARAMETER_UNITS
 from .preparation import logged_velocity_lag_s
 from .refit import Identification
+from .selection_report import selection_json, selection_markdown, structure_json
 from .signals import JointKind, recorded_drive
 
 SOLVER_METHOD = "CasADi sqpmethod (qrqp QP steps, Gauss–Newton Hessian)"
@@ -55,10 +59,17 @@ def report_json(ident: Identification) -> dict[str, Any]:
             }
             for name in fit.fitted
         },
+        "terms": _terms(ident),
         "coulomb_combination": _coulomb_combination(ident),
         "extra_terms": _extra_terms(ident),
         "correlation": {"names": list(unc.names), "matrix": unc.correlation.round(6).tolist()},
         "condition_number": unc.condition_number,
+        "effort_table": {
+            "file": EFFORT_TABLE,
+            "rows": sum(log.signals.t_s.size for log in logs + ident.validation_logs),
+        },
+        "structure": structure_json(ident),
+        "selection": selection_json(ident),
     }
     for key, stats in ident.errors.items():
         out[key] = stats.to_json(kind)
@@ -125,7 +136,7 @@ def report_json(ident: Identification) -> dict[str, Any]:
                 "period": 1.0 / min(log.signals.rate_hz for log in logs),
             },
             "preparation": dataclasses.asdict(ident.settings.preparation),
-            "warnings": list(unc.warnings) + _delay_warning(ident),
+            "warnings": list(unc.warnings) + _delay_warning(ident) + _bound_warnings(ident),
         }
     )
     return out
@@ -212,7 +223,32 @@ def _unexplained(ident: Identification) -> dict[str, Any]:
     }
 
 
+def _terms(ident: Identification) -> dict[str, Any]:
+    """The law's terms on, what was fitted and held (with the held values), what the choice switched
+    off, and the fitted parameters stuck at their lower bound."""
+    choice = ident.choice
+    values = ident.fit.values.as_dict()
+    held = choice.held if choice is not None else ()
+    return {
+        "on": list(choice.terms if choice is not None else ident.params.terms),
+        "fitted": list(ident.fit.fitted),
+        "held": {name: values[name] for name in held},
+        "switched_off": list(choice.switched_off if choice is not None else ()),
+        "at_bound": list(ident.at_bound),
+    }
+
+
+def _bound_warnings(ident: Identification) -> list[str]:
+    std = ident.uncertainty.std
+    return [
+        f"{name} = 0 {PARAMETER_UNITS[name]} is at its lower bound (σ {std.get(name, math.nan):.3g} "
+        f"{PARAMETER_UNITS[name]}): the log does not support this term, or the model lacks another one"
+        for name in ident.at_bound
+    ]
+
+
 def _delay_warning(ident: Identification) -> list[str]:
+
     delay = ident.delay
     if delay is None or delay.resolvable:
         return []
@@ -236,11 +272,20 @@ def report_markdown(report: dict[str, Any]) -> str:
         "|---|---:|---:|---:|---:|",
     ]
     for name, p in report["parameters"].items():
-        change = (p["value"] - p["initial"]) / p["initial"] * 100.0 if p["initial"] else math.nan
+        change = f"{(p['value'] - p['initial']) / p['initial'] * 100.0:+.2f} %" if p["initial"] else "–"
         lines.append(
-            f"| {name} [{p['unit']}] | {p['value']:.6g} | {p['std']:.3g} | {p['initial']:.6g} "
-            f"| {change:+.2f} % |"
+            f"| {name} [{p['unit']}] | {p['value']:.6g} | {p['std']:.3g} | {p['initial']:.6g} | {change} |"
         )
+    terms = report.get("terms")
+    if terms:
+        held = ", ".join(f"{k} = {v:.6g}" for k, v in terms["held"].items()) or "none"
+        off = f"; switched off (nothing fitted or given): {', '.join(terms['switched_off'])}"
+        lines += [
+            "",
+            f"Terms of the friction law on: {', '.join(terms['on']) or 'none'}; held at your values: {held}"
+            + (off if terms["switched_off"] else "")
+            + ".",
+        ]
     lines += [
         "",
         f"Effort error (measured − model, {unit}; both through the fit's zero-phase filter; unfiltered "
@@ -260,7 +305,9 @@ def report_markdown(report: dict[str, Any]) -> str:
             )
     if report.get("validation_source"):
         lines += ["", f"Validation: {report['validation_source']}."]
-    lines += _extra_lines(report) + _unexplained_lines(report, unit, key)
+    lines += (
+        _extra_lines(report) + _unexplained_lines(report, unit, key) + selection_markdown(report, unit, key)
+    )
     s, delay, solver = report["samples"], report["torque_delay_s"], report["solver"]
     unc, velocity = report["uncertainty"], report["velocity"]
     if delay["estimated"] and delay["resolvable"]:
@@ -298,10 +345,18 @@ def report_markdown(report: dict[str, Any]) -> str:
         lines.append(f"Correlated (|ρ| > 0.8): {pairs}.")
     if report["warnings"]:
         lines += ["", "## Warnings", ""] + [f"- {w}" for w in report["warnings"]]
+    table = report.get("effort_table")
+    if table:
+        lines += [
+            "",
+            f"Every sample's kinematics, measured and model force and each term's share: {table['file']} "
+            f"({table['rows']} rows; pandas, polars or duckdb read it).",
+        ]
     t = report["timing_s"]
     lines += [
         "",
-        f"Timing: read {t['read']:.2f} s, prepare {t['prepare']:.2f} s, solve {t['solve']:.2f} s, "
+        f"Timing: read {t['read']:.2f} s, prepare {t['prepare']:.2f} s, select {t.get('select', 0.0):.2f} s, "
+        f"solve {t['solve']:.2f} s, "
         f"judge {t.get('judge', 0.0):.2f} s, total {t['total']:.2f} s.",
     ]
     return "\n".join(lines) + "\n"

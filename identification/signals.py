@@ -210,7 +210,7 @@ def load_joint(
     columns = read_joint_states(path, topic)
     data = columns.joint(joint)
     jk = joint_kind(joint, kind)
-    scale = params.r / params.i_r if jk is JointKind.MOTOR else 1.0
+    scale = params.transmission.metres_per_radian if jk is JointKind.MOTOR else 1.0
     stamps = data.stamp_ns
     q = np.asarray(data.position, dtype=float)
     qd = np.asarray(data.velocity, dtype=float)

@@ -31,10 +31,13 @@ if TYPE_CHECKING:  # what a type checker sees; at run time __getattr__ loads eac
     from .errors import AxisflowError, AxisflowWarning, MoveError, ParameterError  # noqa: F401
     from .friction import (  # noqa: F401
         FRICTION_PARAMETERS,
+        ForwardLaw,
+        FrictionLaw,
         forward_friction,
         friction_curvature,
         friction_expression,
         friction_force,
+        friction_law,
         friction_regressors,
         friction_slope,
     )
@@ -57,7 +60,9 @@ if TYPE_CHECKING:  # what a type checker sees; at run time __getattr__ loads eac
         sample_count,
         ticks_to_seconds,
     )
+    from .terms import LAW_TERMS, TERMS, parse_terms  # noqa: F401
     from .trajectory import SampledTrajectory  # noqa: F401
+    from .transmission import TRANSMISSION_KINDS, Transmission  # noqa: F401
 
 # each public name → its module, relative to this package
 _HOMES: dict[str, str] = {
@@ -79,7 +84,10 @@ _HOMES: dict[str, str] = {
     "MoveError": "errors",
     "ParameterError": "errors",
     "FRICTION_PARAMETERS": "friction",
+    "ForwardLaw": "friction",
+    "FrictionLaw": "friction",
     "forward_friction": "friction",
+    "friction_law": "friction",
     "friction_curvature": "friction",
     "friction_expression": "friction",
     "friction_force": "friction",
@@ -107,6 +115,11 @@ _HOMES: dict[str, str] = {
     "sample_count": "sampling",
     "ticks_to_seconds": "sampling",
     "SampledTrajectory": "trajectory",
+    "LAW_TERMS": "terms",
+    "TERMS": "terms",
+    "parse_terms": "terms",
+    "TRANSMISSION_KINDS": "transmission",
+    "Transmission": "transmission",
 }
 
 

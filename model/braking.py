@@ -1,9 +1,13 @@
 """Braking to rest as fast as the axis can: the quick-stop profile.
 
 From a speed v0 the cart stops fastest with the motor pulling back at its full force F_max while
-friction helps: in the frame where the cart moves forward (v ≥ 0),
+friction helps: in the frame where the cart moves forward (v ≥ 0), in direction s,
 
-    M_eq·v̇ = −(f·F_max + φ(v)),   φ(v) = a1 + a2·v + a3·atan(a4·v)   (eq. (1), :mod:`.friction`)
+    M_eq·v̇ = −(f·F_max + φ_s(v)),   φ_s(v) = c_s + b_s·v + a3·atan(a4·v)   (:mod:`.friction`)
+
+A load that helps the motion (c_s < 0: gravity on a downhill run) brakes against the motor: a stop is
+refused (:class:`MoveError`) where f·F_max does not exceed −c_s, since the cart would never come to
+rest.
 
 with f ≤ 1 the fraction of the force used (a drive keeps a margin: its true friction and inertia are
 not the nominal ones). Nothing brakes harder within the torque limit, so f = 1 gives the physical
@@ -48,9 +52,12 @@ class StopProfile:
     time_s: float
 
 
-def braking_acceleration(speed_m_s: float, params: AxisParams, force_fraction: float) -> float:
-    """v̇ [m/s²] of a cart moving forward at ``speed_m_s`` ≥ 0 braked with f·F_max (negative)."""
-    return -(force_fraction * params.f_max + float(forward_friction(speed_m_s, params))) / params.M_eq
+def braking_acceleration(
+    speed_m_s: float, params: AxisParams, force_fraction: float, direction: float = 1.0
+) -> float:
+    """v̇ [m/s²] of a cart moving forward at ``speed_m_s`` ≥ 0 in ``direction`` braked with f·F_max."""
+    friction = float(forward_friction(speed_m_s, params, direction))
+    return -(force_fraction * params.f_max + friction) / params.M_eq
 
 
 def stop_profile(
@@ -70,13 +77,20 @@ def stop_profile(
         raise MoveError(f"stop from x = {x0_m} m, v = {v0_m_s} m/s: not finite")
     direction = 1.0 if v0_m_s >= 0.0 else -1.0
     v = abs(v0_m_s)
+    law = params.forward(direction)
+    if v > 0.0 and force_fraction * params.f_max + law.c <= 0.0:
+        raise MoveError(
+            f"a stop from {v0_m_s} m/s cannot end: {force_fraction:g}·F_max = "
+            f"{force_fraction * params.f_max:.6g} N does not exceed the load {-law.c:.6g} N that drives the "
+            "cart on (f0 along the motion beyond the friction)"
+        )
     dt = EXECUTION_PERIOD_S
     ts, xs, vs = [0.0], [0.0], [v]
     accs: list[float] = []
     """v̇ at each knot but the last (the first stage of the step from it)"""
 
     def acc(speed: float) -> float:
-        return braking_acceleration(speed, params, force_fraction)
+        return braking_acceleration(speed, params, force_fraction, direction)
 
     def rk4(v: float, k1: float, h: float) -> tuple[float, float]:
         """(Δv, Δx) of one classical Runge–Kutta step of length h from speed v, where v̇ = k1."""

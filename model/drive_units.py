@@ -63,9 +63,10 @@ class DriveUnits:
     rated_torque_nm: float
     """the motor's rated torque [N·m] (0x6076 holds it in mN·m)"""
     i_r: float
-    """gearbox ratio (motor revolutions per pulley revolution)"""
+    """reduction ratio (motor revolutions per revolution of the driven element: pulley, screw, pinion)"""
     r: float
-    """pulley radius [m]"""
+    """carriage travel per radian of the driven element [m]: a pulley's or pinion's radius, a screw's
+    lead/2π, 1 for a linear motor (whose "revolution" is 2π m of travel)"""
     zero_counts: int = 0
     """the position count at x = 0 (a drive's counts start wherever it was switched on or homed)"""
     direction: int = 1
@@ -100,8 +101,12 @@ class DriveUnits:
         zero_counts: int = 0,
         direction: int = 1,
     ) -> DriveUnits:
-        """The units of a drive on the axis of ``params`` (its i_r and r)."""
-        return cls(counts_per_rev, rated_torque_nm, params.i_r, params.r, zero_counts, direction)
+        """The units of a drive on the axis of ``params`` (its transmission's i_r and travel per radian of
+        the driven element)."""
+        k = params.transmission
+        i_r = getattr(k, "i_r", 1.0)
+        per_radian = k.output_travel_m / (2.0 * math.pi) if not hasattr(k, "r") else k.r
+        return cls(counts_per_rev, rated_torque_nm, i_r, per_radian, zero_counts, direction)
 
     @cached_property
     def metres_per_count(self) -> float:

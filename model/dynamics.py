@@ -1,10 +1,12 @@
-"""Inverse dynamics of the belt axis, eq. (1) of the paper.
+"""Inverse dynamics of the axis, eq. (1) of the paper with the terms beside it.
 
-    F = M_eq·ẍ + a1·sign(ẋ) + a2·ẋ + a3·atan(a4·ẋ),   M_eq = m + ((J_m + J_g)·i_r² + 2·J_p)/r²
-    τ_m = F·r/i_r,    ω_m = ẋ·i_r/r,    P = F·ẋ = τ_m·ω_m
+    F = M_eq·ẍ + F_c(ẋ),   F_c = f0 + a1·sign(ẋ) + da1·|sign ẋ| + a2·ẋ + da2·|ẋ| + a3·atan(a4·ẋ)
+    τ_m = k·F,    ω_m = ẋ/k,    P = F·ẋ = τ_m·ω_m
 
-F is the belt (traction) force on the cart [N]; belt elasticity is neglected; the friction term is
-:mod:`axisflow.model.friction`. All functions take scalars or numpy arrays.
+F is the traction force on the cart [N] (belt elasticity neglected); the friction law is
+:mod:`axisflow.model.friction`; k [m/rad] and M_eq come from the transmission
+(:mod:`axisflow.model.transmission`; a belt: k = r/i_r, M_eq = m + ((J_m + J_g)·i_r² + 2·J_p)/r²).
+All functions take scalars or numpy arrays.
 """
 
 from __future__ import annotations
@@ -24,23 +26,23 @@ def cart_force(velocity_m_s: ArrayLike, acceleration_m_s2: ArrayLike, params: Ax
 
 
 def motor_torque(force_n: ArrayLike, params: AxisParams) -> np.ndarray:
-    """Motor torque [N·m] that produces cart force F: τ_m = F·r/i_r."""
-    return np.asarray(force_n, dtype=float) * params.r / params.i_r
+    """Motor torque [N·m] that produces cart force F: τ_m = k·F (a belt: F·r/i_r)."""
+    return params.transmission.motor_torque(force_n)
 
 
 def cart_force_from_torque(torque_nm: ArrayLike, params: AxisParams) -> np.ndarray:
-    """Cart force [N] from motor torque: F = τ_m·i_r/r."""
-    return np.asarray(torque_nm, dtype=float) * params.i_r / params.r
+    """Cart force [N] from motor torque: F = τ_m/k (a belt: τ_m·i_r/r)."""
+    return params.transmission.carriage_force(torque_nm)
 
 
 def motor_angle(position_m: ArrayLike, params: AxisParams) -> np.ndarray:
-    """Motor shaft angle [rad] for cart position x: x·i_r/r."""
-    return np.asarray(position_m, dtype=float) * params.i_r / params.r
+    """Motor shaft angle [rad] for cart position x: x/k (a belt: x·i_r/r)."""
+    return params.transmission.motor_angle(position_m)
 
 
 def motor_speed(velocity_m_s: ArrayLike, params: AxisParams) -> np.ndarray:
-    """Motor shaft speed [rad/s] for cart velocity ẋ: ẋ·i_r/r."""
-    return np.asarray(velocity_m_s, dtype=float) * params.i_r / params.r
+    """Motor shaft speed [rad/s] for cart velocity ẋ: ẋ/k (a belt: ẋ·i_r/r)."""
+    return params.transmission.motor_speed(velocity_m_s)
 
 
 def mechanical_power(velocity_m_s: ArrayLike, acceleration_m_s2: ArrayLike, params: AxisParams) -> np.ndarray:

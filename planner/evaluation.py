@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..model import AxisParams, Move, check_limits, move_energy
-from ..model.encoder import encoder_resolution_m
+from ..model.encoder import axis_resolution_m
 from .certificates import Certificate
 from .errors import InfeasibleMoveError
 from .problem import Case, MoveProblem
@@ -27,7 +27,7 @@ def objective(problem: MoveProblem, duration_s: float, energy_j: float) -> float
 
 def is_zero_move(problem: MoveProblem, params: AxisParams) -> bool:
     """Whether the move is shorter than one encoder count (:mod:`axisflow.model.encoder`)."""
-    return abs(problem.distance_m) < encoder_resolution_m(params.r)
+    return abs(problem.distance_m) < axis_resolution_m(params)
 
 
 def zero_move_result(problem: MoveProblem, params: AxisParams, solver: str) -> PlanResult:
@@ -51,7 +51,7 @@ def zero_move_result(problem: MoveProblem, params: AxisParams, solver: str) -> P
         max_violation=0.0,
         message=(
             f"zero move: |x1 - x0| = {abs(problem.distance_m):.3g} m is shorter than one encoder count "
-            f"({encoder_resolution_m(params.r):.4g} m): nothing to execute"
+            f"({axis_resolution_m(params):.4g} m): nothing to execute"
         ),
     )
 

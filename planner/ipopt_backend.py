@@ -8,8 +8,11 @@ The NLP in the duration T (bounds T_min ≤ T ≤ T_max):
              −τ_lim ≤ (r/i_r)·F_k ≤ τ_lim                   (motor torque at the nodes u_k = k/N,
                                                               and 8 graded towards each end)
 
-with ẋ_k = d·s'(u_k)/T, ẍ_k = d·s''(u_k)/T², F_k by eq. (1) using sign(ẋ) = sign(d) (its value just
-inside the move). The limits are tightened by ``limit_margin`` (0.1 % by default) so that the
+in the move's forward frame: ẋ_k = D·s'(u_k)/T ≥ 0, ẍ_k = D·s''(u_k)/T² with D = |d|, and F_k =
+M_eq·ẍ_k + φ_s(ẋ_k), φ_s the forward law of the move's direction s = sign(d) (its Coulomb sign just
+inside the move; :func:`~axisflow.model.params.forward_axis`): the force along the motion, whose
+magnitude and power F·ẋ are the move's own. The limits are tightened by ``limit_margin`` (0.1 % by
+default) so that the
 node-discretised, bound-relaxed IPOPT solution still meets the true limits at every 1 kHz sample.
 The NLP is built once per (law, case, accounting, settings) with the move and the axis as CasADi
 parameters, so a solve costs one IPOPT call.
@@ -26,6 +29,7 @@ import casadi as ca
 import numpy as np
 
 from ..model import AxisParams, EnergyAccounting, MoveError, PolynomialLaw, friction_expression
+from ..model.params import forward_axis
 from .evaluation import finish, is_zero_move, require_feasible_bounds, zero_move_result
 from .problem import Case, MoveProblem
 from .result import PlanResult, SolveStatus
@@ -95,12 +99,17 @@ def _build(
     s1 = ca.DM(law.shape(u, 1))
     s2 = ca.DM(law.shape(u, 2))
     T = ca.SX.sym("T")
-    # parameters: d, |d|, sign(d), M_eq, a1..a4, r/i_r, v_lim, tau_lim, omega, w0
-    p = ca.SX.sym("p", 13)
-    d, dabs, sgn, M, a1, a2, a3, a4, k_tau, v_lim, _tau_lim, omega, w0 = ca.vertsplit(p)
+    # parameters: D, D, 1 (the forward frame), M_eq, the forward axis's a1..a4 (forward_axis),
+    # k = 1/force_per_torque, v_lim, tau_lim, omega, w0, f0 along the motion, the Coulomb sign at u = 1
+    p = ca.SX.sym("p", 15)
+    d, dabs, sgn, M, a1, a2, a3, a4, k_tau, v_lim, _tau_lim, omega, w0, f0, sign_end = ca.vertsplit(p)
     v = d * s1 / T
     a = d * s2 / T**2
-    force = M * a + friction_expression(v, sgn, a1, a2, a3, a4, atan=ca.atan)
+    # the Coulomb sign is that of the motion at every node but the last, u = 1, where the move is at
+    # rest and the 1 kHz check sees sign 0 (sign_end = 0 where that matters: a load along the motion)
+    signs = ca.vertcat(ca.DM.ones(settings.nodes, 1), sign_end, ca.DM.ones(u.size - settings.nodes - 1, 1))
+    force = M * a + friction_expression(v, sgn * signs, a1, a2, a3, a4, atan=ca.atan, f0=f0)
+
     g = ca.vertcat(law.peak_velocity_factor * dabs - v_lim * T, k_tau * force)
     if case is Case.MIN_TIME:
         f = w0 * T
@@ -144,7 +153,8 @@ def initial_guess(problem: MoveProblem, params: AxisParams) -> float:
     """
     dabs = abs(problem.distance_m)
     t_v = problem.law.peak_velocity_factor * dabs / params.v_max
-    f_free = params.f_max - params.a1 - params.a3 * math.pi / 2
+    law = params.forward(problem.distance_m)
+    f_free = params.f_max - law.c - law.a3 * math.pi / 2
     t_a = math.sqrt(problem.law.peak_acceleration_factor * dabs * params.M_eq / f_free) if f_free > 0 else 0.0
     guess = max(t_v, t_a, problem.t_min_s)
     if problem.case is Case.MIN_TIME_ENERGY:
@@ -168,23 +178,26 @@ class IpoptBackend:
         if is_zero_move(problem, params):
             return zero_move_result(problem, params, self.name)
         require_feasible_bounds(problem, params)
-        d = problem.distance_m
+        d = abs(problem.distance_m)
+        axis = forward_axis(params, problem.distance_m)
         nlp = _nlp(problem, params, self.settings)
         keep = 1.0 - self.settings.limit_margin
         pvals = [
             d,
-            abs(d),
-            math.copysign(1.0, d),
+            d,
+            1.0,
             params.M_eq,
-            params.a1,
-            params.a2,
-            params.a3,
-            params.a4,
-            params.r / params.i_r,
+            axis.a1,
+            axis.a2,
+            axis.a3,
+            axis.a4,
+            params.transmission.metres_per_radian,
             params.v_max * keep,
             params.tau_max * keep,
             problem.omega,
             problem.w0,
+            axis.f0,
+            0.0 if axis.f0 else 1.0,
         ]
         constraints = self.settings.nodes + 1 + 2 * _END_NODES
         t0 = time.perf_counter()

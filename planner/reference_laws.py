@@ -44,7 +44,8 @@ import numpy as np
 
 from ..model import AxisParams, EnergyAccounting, MoveError, forward_friction
 from ..model.deadline import Deadline, iteration_cap
-from ..model.encoder import encoder_resolution_m
+from ..model.encoder import axis_resolution_m
+from ..model.params import forward_axis
 from .errors import InfeasibleMoveError
 from .problem import DEFAULT_OMEGA, DEFAULT_TIME_BOUNDS_S, DEFAULT_W0, REFERENCE_LAWS, Case
 
@@ -159,7 +160,9 @@ def _profile(
         return None
     x_c = max(x_c, 0.0)
     f = params.f_max
-    work = f * x_a + float(forward_friction(v_c, params)) * x_c
+    cruise = float(forward_friction(v_c, params)) * x_c  # < 0 where a load drives the cart on (c < 0)
+    work = f * x_a + cruise
+    driving = f * x_a + max(cruise, 0.0)
     return ReferenceProfile(
         law=law,
         distance_m=D,
@@ -173,7 +176,11 @@ def _profile(
         cruise_distance_m=x_c,
         coast_distance_m=x_k,
         brake_distance_m=x_b,
-        energy_j={"signed": work - f * x_b, "positive": work, "absolute": work + f * x_b},
+        energy_j={
+            "signed": work - f * x_b,
+            "positive": driving,
+            "absolute": driving + max(-cruise, 0.0) + f * x_b,
+        },
     )
 
 
@@ -184,7 +191,10 @@ def friction_limited_speed(params: AxisParams) -> float:
     f = params.f_max
     if float(forward_friction(0.0, params)) >= f:
         return 0.0
-    if params.a2 == 0.0 and params.a1 + (params.a3 * math.pi / 2 if params.a4 > 0.0 else 0.0) <= f:
+    if (
+        params.a2 == 0.0
+        and params.a1 + params.f0 + (params.a3 * math.pi / 2 if params.a4 > 0.0 else 0.0) <= f
+    ):
         return math.inf  # friction saturates below the force limit
     hi = 1.0
     for _ in range(_DOUBLINGS):
@@ -228,9 +238,9 @@ def time_optimal(distance_m: float, params: AxisParams) -> ReferenceProfile:
         raise MoveError(f"distance_m = {distance_m} m is not finite")
     if D > params.L * (1 + 1e-12):
         raise MoveError(f"distance_m = {distance_m} m is longer than the stroke L = {params.L} m")
-    if encoder_resolution_m(params.r) > D:  # a zero move
+    if axis_resolution_m(params) > D:  # a zero move
         D = 0.0
-    return _time_optimal(D, params)
+    return _time_optimal(D, forward_axis(params, float(distance_m)))
 
 
 @lru_cache(maxsize=4096)
@@ -257,6 +267,13 @@ def least_energy(
     """The least-energy profile of the family above that covers |distance_m| in ``duration_s``."""
     acc = params.energy_accounting if accounting is None else EnergyAccounting(accounting)
     fastest = time_optimal(distance_m, params)
+    params = forward_axis(params, float(distance_m))
+    c = params.a1 + params.f0
+    if c < 0.0 and fastest.distance_m > 0.0:
+        raise ReferenceLawError(
+            f"least-energy: a load of {-c:.6g} N drives the cart along this move (friction and f0 "
+            "give c < 0): its coast phase would not slow the cart; the reference needs c >= 0"
+        )
     D = fastest.distance_m
     T = float(duration_s)
     if not math.isfinite(T) or T < 0.0 or (T == 0.0 and D > 0.0):

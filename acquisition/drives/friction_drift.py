@@ -62,16 +62,17 @@ class FrictionDrift:
         """a2 now over its cold value [-]."""
         return self._viscous
 
-    def friction_at(self, x_m: float) -> tuple[float, float, float, float]:
-        """(a1, a2, a3, a4) acting on the cart at ``x_m`` now."""
+    def friction_at(self, x_m: float) -> tuple[float, float, float, float, float, float, float]:
+        """(a1, a2, a3, a4, f0, da1, da2) acting on the cart at ``x_m`` now (f0 does not drift; the
+        asymmetries drift with the Coulomb and the viscous friction)."""
         p = self.axis
         s = 1.0
         for amplitude, k, phase in self._waves:
             s += amplitude * math.sin(k * x_m + phase)
-        c = self._coulomb
-        return p.a1 * c * s, p.a2 * self._viscous, p.a3 * c, p.a4
+        c, viscous = self._coulomb, self._viscous
+        return p.a1 * c * s, p.a2 * viscous, p.a3 * c, p.a4, p.f0, p.da1 * c * s, p.da2 * viscous
 
-    def step(self, friction: tuple[float, float, float, float], speed_m_s: float, distance_m: float) -> None:
+    def step(self, friction: tuple[float, ...], speed_m_s: float, distance_m: float) -> None:
         """Advance one tick in which the cart, under the ``friction`` (a1, a2, a3, a4) of
         :meth:`friction_at`, travelled ``distance_m`` [m] and ends at ``speed_m_s`` [m/s] (≥ 0): the
         friction power is taken as F_c(speed)·speed, ample for time constants of minutes."""
@@ -79,7 +80,7 @@ class FrictionDrift:
         thermal = self.thermal
         coulomb = 1.0
         if thermal is not None:
-            a1, a2, a3, a4 = friction
+            a1, a2, a3, a4 = friction[:4]
             power = (a1 + a2 * speed_m_s + a3 * math.atan(a4 * speed_m_s)) * speed_m_s if speed_m_s else 0.0
             steady = thermal.ambient_c + thermal.resistance_k_per_w * power
             self.temperature_c = steady + (self.temperature_c - steady) * self._decay
@@ -96,4 +97,7 @@ class FrictionDrift:
         p = self.axis
         x1 = p.L if x1_m is None else x1_m
         mean = self.stroke.mean_factor(x0_m, x1, p.L) if self.stroke is not None else 1.0
-        return p.replace(a1=p.a1 * self._coulomb * mean, a2=p.a2 * self._viscous, a3=p.a3 * self._coulomb)
+        c, viscous = self._coulomb * mean, self._viscous
+        return p.replace(
+            a1=p.a1 * c, a2=p.a2 * viscous, a3=p.a3 * self._coulomb, da1=p.da1 * c, da2=p.da2 * viscous
+        )

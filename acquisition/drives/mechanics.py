@@ -1,11 +1,13 @@
 """The simulated axis's mechanics: what moves when the motor pushes, integrated a few kHz.
 
 Two models, both advanced one 1 ms tick at a time with ``substeps`` semi-implicit Euler steps and a
-constant motor force F [N] (the motor torque seen at the cart, τ·i_r/r) over the tick:
+constant motor force F [N] (the motor torque seen at the cart through the transmission, τ/k) over
+the tick:
 
 * :class:`RigidAxis` — eq. (1) of the paper: M_eq·ẍ = F − F_c(ẋ), F_c the friction law of
-  :mod:`axisflow.model.friction`. Friction is Karnopp-style at rest: the cart sticks while |F| ≤ a1,
-  and the velocity is clamped to 0 when it would change sign within a step.
+  :mod:`axisflow.model.friction` with its terms (f0, da1, da2). Friction is Karnopp-style at rest:
+  the cart sticks while −(a1 − da1) ≤ F − f0 ≤ a1 + da1, and the velocity is clamped to 0 when it
+  would change sign within a step.
 * :class:`BeltAxis` — the same axis with an elastic belt between the drive pulley and the cart: the
   rotating parts (rotor, gearbox, pulleys: M_r = M_eq − m, referred to the belt) and the cart (m) are
   two masses joined by a spring-damper,
@@ -55,18 +57,33 @@ class RigidAxis:
     def set_state(self, position_m: float, velocity_m_s: float) -> None:
         self.x, self.v = position_m, velocity_m_s
 
-    def advance(self, force_n: float, a1: float, a2: float, a3: float, a4: float) -> None:
-        """One tick under the motor force ``force_n`` [N] with the friction a1…a4 of this tick."""
+    def advance(
+        self,
+        force_n: float,
+        a1: float,
+        a2: float,
+        a3: float,
+        a4: float,
+        f0: float = 0.0,
+        da1: float = 0.0,
+        da2: float = 0.0,
+    ) -> None:
+        """One tick under the motor force ``force_n`` [N] with the friction of this tick (the law's
+        parameters, :mod:`axisflow.model.friction`)."""
         x, v, dt, M, L = self.x, self.v, self._dt, self._M, self.axis.L
+        up, down = a1 + da1, a1 - da1  # Coulomb friction towards +x and towards -x
         for _ in range(self._substeps):
             if v == 0.0:
-                if -a1 <= force_n <= a1:
+                net = force_n - f0
+                if -down <= net <= up:
                     continue  # static friction holds the cart
-                direction = 1.0 if force_n > 0.0 else -1.0
-                v = (force_n - a1 * direction) / M * dt
+                v = ((net - up) if net > 0.0 else (net + down)) / M * dt
             else:
                 # the friction law of axisflow.model.friction, inlined (module docstring)
-                friction = a1 * math.copysign(1.0, v) + a2 * v + a3 * math.atan(a4 * v)
+                if v > 0.0:
+                    friction = f0 + up + (a2 + da2) * v + a3 * math.atan(a4 * v)
+                else:
+                    friction = f0 - down + (a2 - da2) * v + a3 * math.atan(a4 * v)
                 v_next = v + (force_n - friction) / M * dt
                 v = 0.0 if v_next * v < 0.0 else v_next
             x += v * dt
@@ -105,23 +122,37 @@ class BeltAxis:
         """x_m − x_c: how far the motor side leads the cart [m]."""
         return self.motor_x - self.x
 
-    def advance(self, force_n: float, a1: float, a2: float, a3: float, a4: float) -> None:
-        """One tick under the motor force ``force_n`` [N] with the cart's friction a1…a4 of this tick."""
+    def advance(
+        self,
+        force_n: float,
+        a1: float,
+        a2: float,
+        a3: float,
+        a4: float,
+        f0: float = 0.0,
+        da1: float = 0.0,
+        da2: float = 0.0,
+    ) -> None:
+        """One tick under the motor force ``force_n`` [N] with the cart's friction of this tick."""
         x, v, xm, vm = self.x, self.v, self.motor_x, self.motor_v
         dt, m, m_r, c, L = self._dt, self.m, self.m_rotating, self.damping_n_s_m, self.axis.L
         k = self.belt.spring_rate_n * (1.0 / (x + self._near) + 1.0 / (self._far - x))
+        up, down = a1 + da1, a1 - da1  # Coulomb friction towards +x and towards -x
         for _ in range(self._substeps):
             belt = k * (xm - x) + c * (vm - v)
             vm += (force_n - belt) / m_r * dt
             xm += vm * dt
             if v == 0.0:
-                if -a1 <= belt <= a1:
+                net = belt - f0
+                if -down <= net <= up:
                     continue  # static friction holds the cart
-                direction = 1.0 if belt > 0.0 else -1.0
-                v = (belt - a1 * direction) / m * dt
+                v = ((net - up) if net > 0.0 else (net + down)) / m * dt
             else:
                 # the friction law of axisflow.model.friction, inlined (module docstring)
-                friction = a1 * math.copysign(1.0, v) + a2 * v + a3 * math.atan(a4 * v)
+                if v > 0.0:
+                    friction = f0 + up + (a2 + da2) * v + a3 * math.atan(a4 * v)
+                else:
+                    friction = f0 - down + (a2 - da2) * v + a3 * math.atan(a4 * v)
                 v_next = v + (belt - friction) / m * dt
                 v = 0.0 if v_next * v < 0.0 else v_next
             x += v * dt

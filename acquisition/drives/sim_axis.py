@@ -6,7 +6,7 @@ from the nominal ones (``--params``) that the drive's controller and feed-forwar
 1. the drive measures (the sample :meth:`SimulatedAxis.read` returns);
 2. the controller computes the force command ``F = F_ff + Kp·(x_ref − x_meas) + Kd·(v_ref − v_meas)``
    with ``Kp = M_eq·ω²``, ``Kd = 2ζω·M_eq`` (nominal M_eq, ω = 2π·bandwidth_hz) and the torque
-   ``τ = F·r/i_r``, saturated at the plant's ``tau_max``;
+   ``τ = k·F`` (the nominal transmission's k; a belt: F·r/i_r), saturated at the plant's ``tau_max``;
 3. the mechanics (:mod:`.mechanics`) advance one tick under that torque.
 
 **Ideal profile** (a plant file with none of the imperfection sections): the rigid eq. (1); the pulley
@@ -59,7 +59,7 @@ from pathlib import Path
 import numpy as np
 
 from ...model import EXECUTION_PERIOD_NS, EXECUTION_PERIOD_S, AxisParams, stop_profile
-from ...model.encoder import encoder_resolution_m
+from ...model.encoder import axis_resolution_m
 from ..errors import PlantError
 from ..wire.messages import AxisSample
 from .drive import READY, AlwaysReady, DriveStatus, Setpoint
@@ -124,10 +124,16 @@ class SimulatedAxis(AlwaysReady):
             self._state.save(x0, 0.0)
         self.applied_torque_nm = 0.0
         """the torque the controller commanded for the last tick [N·m]"""
+        self._nominal_k = nominal.transmission.metres_per_radian
+        """the nominal transmission's k [m/rad] (a belt: r/i_r): force command → motor torque"""
+        self._nominal_per_metre = nominal.transmission.radians_per_metre
+        """1/k of the nominal transmission (a belt: i_r/r): what the drive reports, through it"""
+        self._plant_per_metre = p.transmission.force_per_torque
+        """the true transmission's 1/k: applied torque → force on the cart"""
         self._rigid = plant.rigid
         if self._rigid:
             self._mech: RigidAxis | BeltAxis = RigidAxis(p, plant.simulation.substeps, x0)
-            self._m_per_count = encoder_resolution_m(p.r, plant.encoder.counts_per_rev)
+            self._m_per_count = axis_resolution_m(p, plant.encoder.counts_per_rev)
             self._alpha_v = 1.0 - math.exp(
                 -2.0 * math.pi * plant.encoder.velocity_filter_hz * EXECUTION_PERIOD_S
             )
@@ -141,7 +147,7 @@ class SimulatedAxis(AlwaysReady):
                 else RigidAxis(p, plant.simulation.substeps, x0)
             )
             self._drift = FrictionDrift(p, plant.stroke_friction, plant.thermal, plant.wear)
-            self._force_per_torque = p.i_r / p.r
+            self._force_per_torque = p.transmission.force_per_torque
             self._real.measure(self._mech.motor_x, 0.0, first=True)
             self._x_meas, self._v_meas = self._real.position_m, self._real.velocity_m_s
 
@@ -199,7 +205,6 @@ class SimulatedAxis(AlwaysReady):
     def read(self) -> AxisSample:
         """The sample of the current tick; at a tick whose sample was lost (see :meth:`status`), the
         last one that arrived."""
-        p = self.nominal
         if self._rigid:
             tau_meas = self.applied_torque_nm + self._rng.gauss(0.0, self.plant.torque_sensor.noise_std_nm)
             x, v, stamp = self._x_meas, self._v_meas, self.stamp_ns
@@ -214,28 +219,27 @@ class SimulatedAxis(AlwaysReady):
             axis=self.axis,
             position_m=x,
             velocity_m_s=v,
-            force_n=tau_meas * p.i_r / p.r,
-            motor_angle_rad=x * p.i_r / p.r,
-            motor_speed_rad_s=v * p.i_r / p.r,
+            force_n=tau_meas * self._nominal_per_metre,
+            motor_angle_rad=x * self._nominal_per_metre,
+            motor_speed_rad_s=v * self._nominal_per_metre,
             motor_torque_nm=tau_meas,
         )
         return self._last
 
     def apply(self, setpoint: Setpoint) -> None:
         """Command the setpoint for the current tick and advance to the next tick."""
-        nominal = self.nominal
         force_cmd = (
             setpoint.force_ff_n
             + self.kp_n_m * (setpoint.position_m - self._x_meas)
             + self.kd_n_s_m * (setpoint.velocity_m_s - self._v_meas)
         )
         tau_max = self.plant.axis.tau_max
-        tau = min(max(force_cmd * nominal.r / nominal.i_r, -tau_max), tau_max)
+        tau = min(max(force_cmd * self._nominal_k, -tau_max), tau_max)
         self.applied_torque_nm = tau
         mech = self._mech
         if self._rigid:
             p = self.plant.axis
-            mech.advance(tau * p.i_r / p.r, p.a1, p.a2, p.a3, p.a4)
+            mech.advance(tau * self._plant_per_metre, p.a1, p.a2, p.a3, p.a4, p.f0, p.da1, p.da2)
         else:
             self._advance_realistic(tau)
         self.tick += 1
@@ -253,9 +257,9 @@ class SimulatedAxis(AlwaysReady):
         real, mech, drift = self._real, self._mech, self._drift
         tau_rotor = tau_nm + real.loop_torque_nm
         cogging = real.cogging_nm(mech.motor_x, mech.motor_v) if real.cogging else 0.0
-        a1, a2, a3, a4 = friction = drift.friction_at(mech.x)
+        friction = drift.friction_at(mech.x)
         x_before = mech.x
-        mech.advance((tau_rotor + cogging) * self._force_per_torque, a1, a2, a3, a4)
+        mech.advance((tau_rotor + cogging) * self._force_per_torque, *friction)
         if drift.drifts:
             drift.step(friction, abs(mech.v), abs(mech.x - x_before))
         real.measure(mech.motor_x, tau_rotor)
@@ -277,7 +281,7 @@ class _DriveSignals:
         self._m_per_count = (
             self.units.metres_per_count
             if self.units is not None
-            else encoder_resolution_m(plant.axis.r, plant.encoder.counts_per_rev)
+            else axis_resolution_m(plant.axis, plant.encoder.counts_per_rev)
         )
         filter_hz = drive.velocity_filter_hz if drive is not None else plant.encoder.velocity_filter_hz
         self._alpha_v = 1.0 - math.exp(-2.0 * math.pi * filter_hz * EXECUTION_PERIOD_S)
@@ -288,7 +292,7 @@ class _DriveSignals:
         cog = plant.cogging
         self.cogging = tuple(zip(cog.orders, cog.amplitudes_nm, cog.phases_rad, strict=True)) if cog else ()
         """(order, amplitude [N·m], phase [rad]) of each cogging harmonic"""
-        self._rad_per_m = plant.axis.i_r / plant.axis.r
+        self._rad_per_m = plant.axis.transmission.radians_per_metre
         clock = plant.sample_clock or SampleClockConfig()
         self._jitter_ns = clock.jitter_ns
         self._drop = clock.drop_fraction

@@ -48,7 +48,7 @@ from ...model import (
     motor_torque,
     move_ticks,
 )
-from ...model.encoder import encoder_resolution_m
+from ...model.encoder import axis_resolution_m
 from ...model.files import atomic_path
 from ..drives.plant import EncoderConfig, TorqueSensorConfig
 from ..errors import RecordingError
@@ -189,7 +189,7 @@ def synthetic_block(spec: SyntheticLogSpec, block: int) -> SyntheticBlock:
         np.column_stack([v, motor_speed(v, p)]),
         np.column_stack([force_ff, motor_torque(force_ff, p)]),
     )
-    m_per_count = encoder_resolution_m(p.r, EncoderConfig().counts_per_rev)
+    m_per_count = axis_resolution_m(p, EncoderConfig().counts_per_rev)
     x_meas = np.round(x / m_per_count) * m_per_count
     v_meas = v + noise(rng.normal(0.0, VELOCITY_NOISE_M_S, BLOCK_TICKS))
     torque_noise = noise(rng.normal(0.0, TorqueSensorConfig().noise_std_nm, BLOCK_TICKS))

@@ -38,6 +38,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "drive_sim_cmd",
     "record_cmd",
     "excite_cmd",
+    "import_cmd",
     "identify_cmd",
     "planner_cmd",
     "adapt_cmd",

@@ -24,6 +24,7 @@ BENCHMARKS: dict[str, str] = {
     "pipeline": "pipeline",
     "planner": "planner",
     "identify": "identify",
+    "identify-real": "identify_real",
     "view": "view",
     "faults": "faults",
     "plant": "plant",

@@ -32,7 +32,8 @@ import numpy as np
 
 from ...model import AxisParams, friction_force
 from ..errors import IdentificationError
-from ..fit import PARAMETERS, FitResult, FrictionValues, WindowFit, fit_window
+from ..fit import PAPER_PARAMETERS as PARAMETERS
+from ..fit import FitResult, FrictionValues, WindowFit, fit_window
 from ..preparation import FitSamples, PreparedLog
 
 COULOMB = "coulomb"

@@ -38,7 +38,7 @@ def window_signals(
             "torque"
         )
     grid = place_on_grid(stamp_ns, source)
-    scale = params.r / params.i_r
+    scale = params.transmission.metres_per_radian
     return JointSignals(
         source=source,
         topic=source,

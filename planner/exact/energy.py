@@ -35,7 +35,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from ...model import AxisParams, EnergyAccounting, PolynomialLaw, forward_friction, friction_slope
+from ...model import AxisParams, EnergyAccounting, PolynomialLaw
 from ...model.deadline import iteration_cap
 from .law_model import NEWTON_MAX_STEPS, LawModel, horner, law_model
 
@@ -100,7 +100,7 @@ def braking_margin(
     h'' = A·s'''' − φ''·(β·s'')² − φ'·β·s''' (φ', φ'' at v = β·s')."""
     a1, a2, a3, a4 = lm.a1, lm.a2, lm.a3, lm.a4
     c1, c2, c3, c4 = lm.c1, lm.c2, lm.c3, lm.c4
-    # φ, φ', φ'' of model/friction.py (forward_friction, friction_slope, friction_curvature) are
+    # φ, φ', φ'' of model/friction.py (ForwardLaw.value, .slope, .curvature) are
     # inlined below: these run in the Newton steps of every braking evaluation, where numpy calls on
     # scalars would cost several times the evaluation (tests/planner/test_inlined_friction.py)
 
@@ -149,9 +149,9 @@ def braking_energy_and_slope(
     s = np.power.outer(x, _POWERS[: lm.s12.shape[0]]) @ lm.s12  # s', s'' at the nodes
     s1, s2 = s[:, 0], s[:, 1]
     v = beta * s1
-    h = A * s2 - forward_friction(v, lm)
+    h = A * s2 - lm.forward.value(v)
     np.maximum(h, 0.0, out=h)
-    dh = friction_slope(v, lm) * v - 2.0 * A * s2  # T·∂h/∂T
+    dh = lm.forward.slope(v) * v - 2.0 * A * s2  # T·∂h/∂T
     w = D * wq * s1
     return float(w @ h), float(w @ dh) / T
 

@@ -7,20 +7,22 @@ move is twice an integral over [0, 1/2] and the accelerating half mirrors the br
 
 :class:`LawModel` holds what the solver's scalar loops and quadratures read: the coefficients of
 s', s'', s''', s'''' (highest power first, for Horner's rule), the axis scalars of eq. (1)
-(M = M_eq, a1…a4, F_max, v_max), the argmax of s'' on [0, 1/2], I2 = ∫₀¹ s'² du, and two fixed
+(M = M_eq, the forward law φ(v) = a1 + a2·v + a3·atan(a4·v) of the move's direction, F_max,
+v_max), the argmax of s'' on [0, 1/2], I2 = ∫₀¹ s'² du, and two fixed
 quadratures. It is immutable, and cached per (law, axis) by :func:`law_model` (the parameters are
 frozen and hashable; a law is one shared object per name).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
 
-from ...model import AxisParams, PolynomialLaw
+from ...model import AxisParams, ForwardLaw, PolynomialLaw
 from ..errors import InfeasibleMoveError
 
 NEWTON_MAX_STEPS = 60
@@ -66,7 +68,9 @@ class LawModel:
     a2: float
     a3: float
     a4: float
-    """the friction law's parameters (eq. 1)"""
+    """the forward law of the move's direction (c_s, b_s, a3, a4 of :class:`~axisflow.model.ForwardLaw`,
+    from :func:`~axisflow.model.params.forward_axis`): a1 < 0 where a load helps the move; all four
+    signs of φ flipped in the braking side's model (:meth:`LawModel.negated`)"""
     f_max_n: float
     """the cart force limit F_max = tau_max·i_r/r [N]"""
     v_max_m_s: float
@@ -85,17 +89,28 @@ class LawModel:
     """graded Gauss–Legendre on [0, 1/2] and s' at its nodes (weights doubled for the symmetric half)"""
     s12: np.ndarray
     """(n, 2): s' and s'' coefficients, lowest power first (columns), for vectorised evaluation"""
+    forward: ForwardLaw
+    """φ as the model's record (a1…a4 above as c, b, a3, a4), for the vectorised quadratures"""
+    rest_load: float = 0.0
+    """the force along the motion at rest, the Coulomb sign 0 (s·f0 [N]): what the axis needs at a
+    law's ends where they accelerate (poly3), and the braking side's friction at rest"""
 
     @classmethod
     def build(cls, law: PolynomialLaw, params: AxisParams) -> LawModel:
         """Prepare ``law`` for the axis ``params``; refuses an axis that cannot move and a law that
         is not symmetric."""
-        if params.f_max <= params.a1:
+        c = params.a1 + params.f0  # the forward axis's φ(0⁺) (forward_axis)
+        if params.f_max <= c:
             # F(u, T) → a1 as T → ∞: no duration makes the torque peak meet the limit
             raise InfeasibleMoveError(
                 f"the motor torque limit tau_max = {params.tau_max} N·m gives a cart force of at most "
-                f"F_max = {params.f_max:.6g} N, not above the Coulomb friction a1 = {params.a1} N: "
-                "the axis cannot move"
+                f"F_max = {params.f_max:.6g} N, not above the friction at the start of the move "
+                f"a1 + f0 = {c:.6g} N: the axis cannot move"
+            )
+        if params.f_max <= abs(params.f0):
+            raise InfeasibleMoveError(
+                f"the cart force limit F_max = {params.f_max:.6g} N is not above the constant load "
+                f"|f0| = {abs(params.f0):.6g} N: the axis cannot hold itself"
             )
         d = [np.asarray(c, dtype=float) for c in law.derivatives]
         d4 = np.polynomial.polynomial.polyder(d[2])
@@ -108,7 +123,7 @@ class LawModel:
         return cls(
             law=law,
             M=params.M_eq,
-            a1=params.a1,
+            a1=c,
             a2=params.a2,
             a3=params.a3,
             a4=params.a4,
@@ -124,7 +139,25 @@ class LawModel:
             half_w=2.0 * hw,
             half_s1=law.shape(hu, 1),
             s12=_coefficient_columns(d[0], d[1]),
+            forward=ForwardLaw(c, params.a2, params.a3, params.a4),
+            rest_load=params.f0,
         )
+
+    def braking_side(self) -> LawModel:
+        """The braking half's model, read from the move's end: F(u) of it is A·s'' − φ_b(β·s') with
+        φ_b = rest_load + a2·v + a3·atan(a4·v), φ without the Coulomb friction's help (which the
+        samples at rest, the end of a poly3 move, do not have): never below the true braking force
+        (:mod:`.torque_limit`)."""
+        brake = ForwardLaw(-self.rest_load, -self.a2, -self.a3, self.a4)
+        return dataclasses.replace(
+            self, a1=brake.c, a2=brake.b, a3=brake.a3, forward=brake, rest_load=-self.rest_load
+        )
+
+    @property
+    def braking_can_bind(self) -> bool:
+        """Whether the braking half can need more force than the driving half: the braking side's φ_b
+        exceeds −φ only by c + rest_load, so only where that is < 0 (a load helps the move)."""
+        return self.a1 + self.rest_load < 0.0
 
 
 @lru_cache(maxsize=256)

@@ -72,10 +72,7 @@ def _signed_start(
     t_free = D / beta if beta > 0.0 else math.inf
     t_c = min(max(t_free, problem.t_min_s), problem.t_max_s)
     active = Active.OPTIMUM if t_c == t_free else (Active.T_MIN if t_c == problem.t_min_s else Active.T_MAX)
-    if (
-        problem.law.peak_velocity_factor * D <= params.v_max * t_c
-        and limit.peak_force(1.0 / t_c, D, limit.model.u_acc_peak)[0] <= limit.model.f_max_n
-    ):
+    if problem.law.peak_velocity_factor * D <= params.v_max * t_c and limit.within(1.0 / t_c, D):
         return t_c, active, None
     t_s, t_below, active = min_feasible_duration(problem, params, limit, deadline)
     return t_s, active, t_below if active in (Active.VELOCITY, Active.TORQUE) else None

@@ -5,10 +5,23 @@ frame where it runs forward; the friction sign closed at the end points, as IPOP
 
     F(u, y) = M·D·y²·s''(u) + φ(D·y·s'(u)),      φ(v) = a1 + a2·v + a3·atan(a4·v),  u ∈ [0, 1].
 
-With a1…a4 ≥ 0, max_u F and max_u (−F) are both non-increasing in T (each braking term −F shrinks with
-T wherever it is positive, because atan(z) ≥ z/(1 + z²)), so feasibility is monotone in T. The laws
+φ is the forward law of the move's direction (:func:`~axisflow.model.params.forward_axis`). With
+a1…a4 ≥ 0, max_u F and max_u (−F) are both non-increasing in T (each braking term −F shrinks with T
+wherever it is positive, because atan(z) ≥ z/(1 + z²)), so feasibility is monotone in T. The laws
 are symmetric, so the braking peak −F(1 − u) = F(u) − 2φ is the driving peak minus twice the
-friction and never binds: only max_u F(u, y) = F_max needs solving. T_τ = 1/y solves the pair
+friction and never binds: only max_u F(u, y) = F_max needs solving.
+
+**A load that helps the move** (f_s = s·f0 < 0: gravity on a downhill move) lowers φ, and the braking
+half can need more force than the driving half: where c + f_s < 0 (c = φ(0⁺); c < 0 itself where the
+load outweighs friction). The braking force, read from the move's end, is bounded by
+g(u, y) = M·D·y²·s''(u) − φ_b(D·y·s'(u)) with φ_b = f_s + b·v + a3·atan(a4·v), φ without the Coulomb
+friction's help (the samples at rest, the end of a poly3 move, have none): the same function with
+−φ_b (:meth:`LawModel.braking_side`), solved by the same Newton machinery
+(:attr:`TorqueLimit.braking`). Feasibility stays monotone: where g ≥ −f_s, A·s'' ≥ φ_b − f_s, so
+T·∂g/∂T = −2A·s'' + φ_b'·v ≤ −b·v − a3·(2·atan z − z/(1 + z²)) ≤ 0 (the constant cancels), and
+g(0, y) ≥ −f_s with |f0| < F_max: a duration that meets the limit stays within it when lengthened.
+T_τ is then the larger of the two roots. T_τ = 1/y solves the pair
+
 
     ∂F/∂u (u, y) = 0,    F(u, y) = F_max
 
@@ -62,11 +75,27 @@ class TorqueLimit:
     model: LawModel
     table: TorqueRootTable | None
     """start points of the Newton solve; None gives the analytic start (used to build the table)"""
+    braking: TorqueLimit | None = None
+    """the braking half's limit (−φ), where a load helps the move (c < 0); None where braking
+    never binds (module docstring)"""
 
     @classmethod
     def build(cls, model: LawModel, stroke_m: float) -> TorqueLimit:
-        """The torque limit with its start table over the stroke (solved from the analytic start)."""
-        return cls(model, cls(model, None).root_table(stroke_m))
+        """The torque limit with its start table over the stroke (solved from the analytic start),
+        and the braking half's where c < 0."""
+        braking = None
+        if model.braking_can_bind:
+            brake = model.braking_side()
+            braking = cls(brake, cls(brake, None).root_table(stroke_m))
+        return cls(model, cls(model, None).root_table(stroke_m), braking)
+
+    def within(self, y: float, D: float) -> bool:
+        """Whether the move of length D with y = 1/T meets the force limit on both halves (the
+        peaks never under-report: :meth:`peak_force`)."""
+        fmax = self.model.f_max_n
+        if self.peak_force(y, D, self.model.u_acc_peak)[0] > fmax:
+            return False
+        return self.braking is None or self.braking.peak_force(y, D, self.model.u_acc_peak)[0] <= fmax
 
     def force_derivatives(self, u: float, y: float, D: float) -> tuple[float, float, float, float, float]:
         """F, ∂F/∂u, ∂²F/∂u², ∂F/∂y, ∂²F/∂u∂y at (u, y) for a move of length D (forward frame).
@@ -83,8 +112,8 @@ class TorqueLimit:
         a3, a4 = m.a3, m.a4
         Dy = D * y
         v = Dy * s1
-        # φ(v), φ'(v), φ''(v) of model/friction.py (forward_friction, friction_slope,
-        # friction_curvature), inlined: this runs 10–30 times per solve, where numpy calls on scalars
+        # φ(v), φ'(v), φ''(v) of model/friction.py (ForwardLaw.value, .slope,
+        # .curvature), inlined: this runs 10–30 times per solve, where numpy calls on scalars
         # would cost several times the whole evaluation (tests/planner/test_inlined_friction.py)
         z = a4 * v
         q = 1.0 / (1.0 + z * z)
@@ -132,12 +161,21 @@ class TorqueLimit:
         return F, Fy, u
 
     def duration(self, D: float, deadline: Deadline | None = None) -> tuple[float, float, float]:
-        """T_τ [s]: the smallest T with max_u F(u, T) ≤ F_max, as (t_upper_s, t_lower_s, u_peak).
+        """T_τ [s]: the smallest T with max_u F(u, T) ≤ F_max (and the braking half's, where it can
+        bind), as (t_upper_s, t_lower_s, u_peak).
 
         Newton's method on the pair ∂F/∂u = 0, F = F_max in (u, y) from the table. The peak meets the
         limit at t_upper_s and exceeds it at t_lower_s (a proof that t_lower_s is infeasible). Every
         loop is capped; ``deadline`` is checked between them (:class:`SolveLimitError` at either).
         """
+        driving = self._duration(D, deadline)
+        if self.braking is None:
+            return driving
+        braking = self.braking._duration(D, deadline)
+        return braking if braking[0] > driving[0] else driving
+
+    def _duration(self, D: float, deadline: Deadline | None) -> tuple[float, float, float]:
+        """:meth:`duration` of this side alone."""
         fmax = self.model.f_max_n
         y, u = self._start(D)
         fd = self.force_derivatives
@@ -188,7 +226,12 @@ class TorqueLimit:
         m = self.model
         fmax = m.f_max_n
         y_hi = math.sqrt(fmax / (m.M * D * horner(m.c2, m.u_acc_peak)))  # F(u_a, y_hi) ≥ F_max + a1
+        for _ in range(_ROUNDING_STEPS):  # φ < 0 somewhere (a helping load, a braking side): widen
+            if self.force_derivatives(m.u_acc_peak, y_hi, D)[0] > fmax:
+                break
+            y_hi *= 2.0
         y_lo = 0.0  # F(u, 0) = a1 < F_max
+
         y = min(y, y_hi)
         for _ in range(NEWTON_MAX_STEPS):
             F, Fy, u = self.peak_force(y, D, u)

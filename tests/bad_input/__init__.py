@@ -6,7 +6,7 @@ in the module of its command."""
 
 from __future__ import annotations
 
-from . import axis, deployment, files, identification, logs, nodes, planning
+from . import axis, deployment, files, foreign_logs, identification, logs, nodes, planning
 from .case import Case
 
 CASES: list[Case] = [
@@ -17,5 +17,6 @@ CASES: list[Case] = [
     *logs.CASES,
     *deployment.CASES,
     *files.CASES,
+    *foreign_logs.CASES,
 ]
 """every case, in the order the page lists them within a command"""

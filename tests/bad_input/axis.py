@@ -136,6 +136,17 @@ CASES = [
         untouched=("refit",),
     ),
     case(
+        "identify: --terms auto beside a term",
+        "identify",
+        "still.mcap",
+        "--out",
+        "refit",
+        "--terms",
+        "auto,atan",
+        says=("--terms auto,atan", "unknown term(s) auto", "(or auto alone)"),
+        untouched=("refit",),
+    ),
+    case(
         "bridge: invalid zenoh config",
         "bridge",
         "--sim",

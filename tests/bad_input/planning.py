@@ -191,6 +191,14 @@ CASES = [
         says=("--moves", "0 must be >= 1"),
     ),
     case(
+        "bench: an EMPS-like log of no laps",
+        "bench",
+        "identify-real",
+        "--laps",
+        "0",
+        says=("--laps", "0 must be >= 1"),
+    ),
+    case(
         "bench: an endless idle window",
         "bench",
         "pipeline",

@@ -39,6 +39,7 @@ from axisflow.deploy.security import SecurityPlan, init_security
 from ..acquisition.logs.cell_log import write_cell_log
 from ..bad_input import CASES
 from ..bad_input.case import LOOPBACK
+from ..bad_input.foreign_logs import write_foreign_logs
 from ..bad_input.page import REFUSALS_PAGE, refusals_page
 
 CLI = [sys.executable, "-c", "import sys; from axisflow.cli import main; sys.exit(main())"]
@@ -88,6 +89,7 @@ def inputs(tmp_path_factory, damage) -> Path:
     (d / "words.txt").write_text("0.1\nabc\n")
     (d / "one.txt").write_text("0.1\n")
     (d / "empty.mcap").write_bytes(b"")
+    write_foreign_logs(d)
     (d / "full").mkdir()
     (d / "full" / "keep.txt").write_text("a session\n")
     _recording(d / "still.mcap")

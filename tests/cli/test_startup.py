@@ -17,7 +17,7 @@ import pytest
 
 from axisflow.cli import build_parser
 
-HEAVY = ("scipy", "casadi", "zenoh", "rerun", "matplotlib", "can", "canopen")
+HEAVY = ("scipy", "casadi", "zenoh", "rerun", "matplotlib", "can", "canopen", "pyarrow", "h5py")
 DATA_PATH_LIBRARIES = ("mcap", "zstandard", "lz4", "zlib_ng", "cryptography", "json5")
 """what the parsers loaded before their constants found light homes (issue 23, goal 3)"""
 MACHINERY = (
@@ -29,6 +29,7 @@ MACHINERY = (
     "axisflow.acquisition.drives.plant",
     "axisflow.acquisition.logs.mcap_writer",
     "axisflow.acquisition.logs.reader",
+    "axisflow.acquisition.foreign",
     "axisflow.identification.refit",
     "axisflow.planner.exact",
     "axisflow.planner.reference_laws",

@@ -78,7 +78,13 @@ def test_excite_record_identify_recovers_the_plant_and_validates_on_planned_move
     assert report["validation"]["max_abs_nm"] < 0.25
     assert report["validation"]["rms_nm"] < 0.01  # the simulated torque sensor's noise, 0.01 N·m
     assert report["validation_nominal"]["rms_nm"] > 5 * report["validation"]["rms_nm"]
-    assert {p.name for p in out.iterdir()} == {"params.toml", "report.json", "report.md", "fit.png"}
+    assert {p.name for p in out.iterdir()} == {
+        "params.toml",
+        "report.json",
+        "report.md",
+        "fit.png",
+        "effort.parquet",
+    }
 
 
 @pytest.mark.slow

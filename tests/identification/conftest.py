@@ -58,11 +58,13 @@ def write_foreign_log(
     delay_s: float = 0.0,
     kinematics=motion,
     velocity: bool = True,
+    others: bool = True,
 ) -> Path:
     """A ROS 2 bag-like MCAP by mcap_ros2's writer: a JointState topic whose joint ``slider`` is a motor
     (rad, rad/s, N·m) driving the axis PLANT, interleaved with a second JointState topic and a
     std_msgs/String topic in the same chunks. The torque describes the instant ``delay_s`` before its
-    stamp; ``velocity`` False sends empty velocity arrays (as many drivers do)."""
+    stamp; ``velocity`` False sends empty velocity arrays (as many drivers do); ``others`` False leaves
+    the second JointState topic and the String topic out."""
     from mcap.writer import CompressionType
     from mcap_ros2.writer import Writer
 
@@ -93,7 +95,7 @@ def write_foreign_log(
             msg = {"header": header, "name": list(joints), "position": pos[i].tolist(),
                    "velocity": vel[i].tolist() if velocity else [], "effort": eff[i].tolist()}  # fmt: skip
             writer.write_message(topic, js, msg, log_time=stamp, publish_time=stamp)
-            if i % 10 == 0:
+            if others and i % 10 == 0:
                 other = {
                     "header": header,
                     "name": ["wrist"],
@@ -102,7 +104,7 @@ def write_foreign_log(
                     "effort": [0.0],
                 }
                 writer.write_message("/arm/joint_states", js, other, log_time=stamp, publish_time=stamp)
-            if i % 500 == 0:
+            if others and i % 500 == 0:
                 writer.write_message(
                     "/rosout_text", text, {"data": f"tick {i}"}, log_time=stamp, publish_time=stamp
                 )

@@ -67,6 +67,7 @@ def test_identify_says_what_it_skipped_in_one_line_and_goes_on(logs, tmp_path):
     report = json.loads(proc.stdout)
     assert report["parameters"]["a1"]["value"] == pytest.approx(PLANT.a1, rel=0.03)
     assert sorted(p.name for p in (tmp_path / "o").iterdir()) == [
+        "effort.parquet",
         "fit.png",
         "params.toml",
         "report.json",

@@ -12,6 +12,8 @@ import math
 
 from axisflow.model import AxisParams, EnergyAccounting, default_params
 from axisflow.model.parameter_ranges import MAX_MOTOR_SPEED_RAD_S, PARAMETER_RANGES
+from axisflow.model.params import AXIS_KEYS
+from axisflow.model.transmission import Belt
 from hypothesis import strategies as st
 
 
@@ -46,7 +48,10 @@ def axis_params(draw: st.DrawFn, accounting: EnergyAccounting | None = None) -> 
     tau_max = draw(in_range("tau_max", lo=a1 * r / i_r * (1.0 + 1e-9)))
     values = {key: draw(in_range(key)) for key in ("m", "J_m", "J_g", "J_p", "L", "a2", "a3", "a4")}
     chosen = accounting or draw(st.sampled_from(list(EnergyAccounting)))
-    return AxisParams(r=r, i_r=i_r, v_max=v_max, a1=a1, tau_max=tau_max, energy_accounting=chosen, **values)
+    belt = Belt(**{k: values.pop(k) for k in ("J_m", "J_g", "J_p")}, r=r, i_r=i_r)
+    return AxisParams(
+        transmission=belt, v_max=v_max, a1=a1, tau_max=tau_max, energy_accounting=chosen, **values
+    )
 
 
 @st.composite
@@ -56,14 +61,15 @@ def sibling_params(draw: st.DrawFn) -> AxisParams:
     time-energy optimum is interior and the torque limit decides."""
     nominal = default_params()
     scaled = {}
-    for key in PARAMETER_RANGES:
+    for key in (*AXIS_KEYS, *Belt.keys, "a1", "a2", "a3", "a4"):
         rng = PARAMETER_RANGES[key]
         factor = 10.0 ** draw(st.floats(-1.0, 1.0))
         scaled[key] = min(max(getattr(nominal, key) * factor, rng.low), rng.high)
     scaled["tau_max"] = max(scaled["tau_max"], 1.5 * scaled["a1"] * scaled["r"] / scaled["i_r"])
     scaled["v_max"] = min(scaled["v_max"], 0.5 * MAX_MOTOR_SPEED_RAD_S * scaled["r"] / scaled["i_r"])
     accounting = draw(st.sampled_from(list(EnergyAccounting)))
-    return AxisParams(energy_accounting=accounting, **scaled)
+    belt = Belt(**{k: scaled.pop(k) for k in Belt.keys})
+    return AxisParams(transmission=belt, energy_accounting=accounting, **scaled)
 
 
 def outside(key: str) -> st.SearchStrategy[float]:

@@ -65,7 +65,12 @@ def test_toml_round_trip(tmp_path):
     [
         ({"mass": 3.0}, r"unknown key\(s\) mass = 3.0"),
         ({"i_r": 0.0}, r"i_r = 0.0 is outside the physical range \[0.1, 1000\] \("),
-        ({"a4": None}, r"missing key\(s\) a4 \[s/m\]"),
+        ({"a4": None}, r"the atan term's keys a3 and a4 go together: a4 is missing"),
+        ({"m": None}, r"missing key\(s\) m \[kg\]"),
+        ({"da1": 3.0}, r"the asymmetry term's keys da1 and da2 go together: da2 is missing"),
+        ({"f0": 1500.0}, r"F_max = tau_max·i_r/r = 1000 N, not above the constant force \|f0\| = 1500 N"),
+        ({"f0": 950.0}, r"not above the force c = a1 \+ da1 \+ f0 = 1022 N .* towards \+x"),
+        ({"da1": 80.0, "da2": 0.0}, r"a1 = 72.0 N, da1 = 80.0 N give a negative friction"),
         ({"m": -1.0}, r"m = -1.0 kg is outside the physical range \[0.001, 10000\] kg \("),
         ({"m": 0.0}, r"m = 0.0 kg is outside the physical range \[0.001, 10000\] kg"),
         ({"m": 1e308}, r"m = 1e\+308 kg is outside the physical range \[0.001, 10000\] kg"),
@@ -116,7 +121,10 @@ def test_a_binary_file_is_named_as_not_text(tmp_path):
 
 
 def test_file_keys_cover_every_field():
-    assert set(FILE_KEYS) == set(AxisParams.__dataclass_fields__)
+    from axisflow.model.transmission import Belt
+
+    fields = set(AxisParams.__dataclass_fields__) - {"terms"}
+    assert set(FILE_KEYS) == fields | set(Belt.keys)
 
 
 def test_the_ranges_in_the_docs_are_the_code_s():
@@ -138,3 +146,20 @@ def test_a_new_equivalent_mass_goes_into_the_cart_mass():
     assert (heavier.J_m, heavier.J_g, heavier.J_p) == (params.J_m, params.J_g, params.J_p)
     with pytest.raises(ParameterError, match="M_eq = 1 kg is not above the rotating parts' share"):
         params.with_equivalent_mass(1.0)
+
+
+def test_the_parameter_file_of_each_transmission_kind_in_the_docs_loads_and_round_trips(tmp_path):
+    from pathlib import Path
+
+    from axisflow.model.transmission import TRANSMISSION_KINDS
+
+    axes = Path(__file__).parents[2] / "docs" / "axes"
+    for kind in TRANSMISSION_KINDS:
+        params = load_params(axes / f"{kind}.toml")
+        assert params.kind == kind
+        f = tmp_path / f"{kind}.toml"
+        f.write_text(params_to_toml(params))
+        assert load_params(f) == params
+        k = params.transmission
+        assert k.carriage_position(k.motor_angle(0.3)) == pytest.approx(0.3, rel=1e-15)
+        assert k.force_per_torque * k.metres_per_radian == pytest.approx(1.0, rel=1e-15)

@@ -2,20 +2,17 @@
 
 The solver's scalar Newton loops write φ(v) = a1 + a2·v + a3·atan(a4·v) and its velocity derivatives
 out with ``math.atan`` for speed (torque_limit.TorqueLimit.force_derivatives, energy.braking_margin).
-Each copy is checked here, through the quantity it computes, against model/friction.py's
-forward_friction, friction_slope and friction_curvature at a set of velocities: a change of the
-model's law that is not made in the copies fails here.
+Each copy is checked here, through the quantity it computes, against model/friction.py's forward law
+of the move's direction (ForwardLaw.value, .slope, .curvature) at a set of velocities, on the paper's
+axis and on axes with an offset and asymmetric friction in both directions (a load that helps the
+move among them, whose braking half has a limit of its own, on −φ): a change of the model's law that
+is not made in the copies fails here.
 """
 
 import numpy as np
 import pytest
-from axisflow.model import (
-    default_params,
-    forward_friction,
-    friction_curvature,
-    friction_slope,
-    polynomial_law,
-)
+from axisflow.model import ForwardLaw, default_params, polynomial_law
+from axisflow.model.params import forward_axis
 from axisflow.planner.exact import law_model
 from axisflow.planner.exact.energy import braking_margin
 from axisflow.planner.exact.torque_limit import torque_limit
@@ -23,6 +20,18 @@ from axisflow.planner.exact.torque_limit import torque_limit
 VELOCITIES_M_S = [1e-6, 1e-4, 1e-3, 0.01, 0.05, 0.1, 0.3, 0.7, 1.2, 1.5]
 LAWS = ["poly3", "poly5", "poly7"]
 REL = 1e-12
+TERMS = default_params().replace(f0=60.0, da1=-20.0, da2=50.0)
+"""an offset along +x and friction that differs by direction"""
+DOWNHILL = default_params().replace(f0=-400.0, a2=150.0, da2=-30.0)
+"""a load that drives the cart towards +x harder than friction holds it: c < 0 moving that way"""
+CASES = [
+    (default_params(), 1.0),
+    (default_params().replace(a2=0.0, a4=100.0), 1.0),
+    (TERMS, 1.0),
+    (TERMS, -1.0),
+    (DOWNHILL, 1.0),
+    (DOWNHILL, -1.0),
+]
 
 
 def _shape(law, u):
@@ -42,20 +51,40 @@ def _close(got, want, *terms):
     assert got == pytest.approx(want, rel=0.0, abs=REL * scale)
 
 
+def _sides(law, params, direction):
+    """(limit, φ as the model writes it) for the driving side, and the braking side's where it has one."""
+    limit = torque_limit(law, forward_axis(params, direction))
+    phi = params.forward(direction)
+    sides = [(limit, phi)]
+    if limit.braking is not None:  # -φ without the Coulomb friction's help: A·s'' - φ_b
+        sides.append((limit.braking, ForwardLaw(-direction * params.f0, -phi.b, -phi.a3, phi.a4)))
+    return sides
+
+
+def test_a_helping_load_gives_the_braking_half_a_limit_of_its_own():
+    law = polynomial_law("poly5")
+    assert DOWNHILL.forward(1.0).c < 0.0 < DOWNHILL.forward(-1.0).c
+    assert torque_limit(law, forward_axis(DOWNHILL, 1.0)).braking is not None
+    assert torque_limit(law, forward_axis(DOWNHILL, -1.0)).braking is None
+
+
 @pytest.mark.parametrize("law_name", LAWS)
-@pytest.mark.parametrize("params", [default_params(), default_params().replace(a2=0.0, a4=100.0)])
-def test_the_torque_limits_force_derivatives_use_the_models_friction(law_name, params):
-    law = polynomial_law(law_name)
-    limit = torque_limit(law, params)
+@pytest.mark.parametrize(("params", "direction"), CASES)
+def test_the_torque_limits_force_derivatives_use_the_models_friction(law_name, params, direction):
+    for limit, law_phi in _sides(polynomial_law(law_name), params, direction):
+        _check_force_derivatives(polynomial_law(law_name), params, limit, law_phi)
+
+
+def _check_force_derivatives(law, params, limit, law_phi):
     M, D = params.M_eq, 0.4
     for u in (0.0, 0.05, 0.21, 0.37):
         s1, s2, s3, s4 = _shape(law, u)
         for v in VELOCITIES_M_S:
             y = v / (D * s1) if s1 > 0.0 else 1.0 / 0.7  # at u = 0 the move is at rest
             v = D * y * s1
-            phi = float(forward_friction(v, params))
-            fp = float(friction_slope(v, params))
-            fpp = float(friction_curvature(v, params))
+            phi = float(law_phi.value(v))
+            fp = float(law_phi.slope(v))
+            fpp = float(law_phi.curvature(v))
             inertia = M * D * y * y
             F, Fu, Fuu, Fy, Fuy = limit.force_derivatives(u, y, D)
             _close(F, inertia * s2 + phi, inertia * s2, phi)
@@ -68,10 +97,11 @@ def test_the_torque_limits_force_derivatives_use_the_models_friction(law_name, p
 
 
 @pytest.mark.parametrize("law_name", LAWS)
-@pytest.mark.parametrize("params", [default_params(), default_params().replace(a2=0.0, a4=100.0)])
-def test_the_braking_margin_uses_the_models_friction(law_name, params):
+@pytest.mark.parametrize(("params", "direction"), CASES)
+def test_the_braking_margin_uses_the_models_friction(law_name, params, direction):
     law = polynomial_law(law_name)
-    lm = law_model(law, params)
+    lm = law_model(law, forward_axis(params, direction))
+    law_phi = params.forward(direction)
     D = 0.05
     for u in (0.02, 0.1, 0.25, 0.4):
         s1, s2, s3, s4 = _shape(law, u)
@@ -80,9 +110,9 @@ def test_the_braking_margin_uses_the_models_friction(law_name, params):
             A = params.M_eq * beta * beta / D
             value, bend = braking_margin(lm, A, beta)
             v = beta * s1
-            phi = float(forward_friction(v, params))
-            fp = float(friction_slope(v, params))
-            fpp = float(friction_curvature(v, params))
+            phi = float(law_phi.value(v))
+            fp = float(law_phi.slope(v))
+            fpp = float(law_phi.curvature(v))
             h, h_u, s2_got = value(u)
             assert s2_got == pytest.approx(s2, rel=1e-13, abs=1e-13)
             _close(h, A * s2 - phi, A * s2, phi)

@@ -153,9 +153,9 @@ class CanopenDrive:
             axis=self.axis,
             position_m=x,
             velocity_m_s=v,
-            force_n=tau * p.i_r / p.r,
-            motor_angle_rad=x * p.i_r / p.r,
-            motor_speed_rad_s=v * p.i_r / p.r,
+            force_n=tau * p.transmission.force_per_torque,
+            motor_angle_rad=x * p.transmission.radians_per_metre,
+            motor_speed_rad_s=v * p.transmission.radians_per_metre,
             motor_torque_nm=tau,
         )
         self._position_counts = position

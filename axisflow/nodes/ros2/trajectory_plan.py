@@ -32,7 +32,7 @@ import math
 from dataclasses import dataclass
 
 from ...model import EXECUTION_PERIOD_S, MAX_MOVE_DURATION_S, AxisParams, move_ticks, polynomial_law
-from ...model.encoder import encoder_resolution_m
+from ...model.encoder import axis_resolution_m
 from ...planner import Case, ExactBackend, MoveProblem, PlannerBackend, PlanResult, SolveStatus
 from ...planner.evaluation import finish
 from .errors import TrajectoryRefusedError
@@ -167,7 +167,7 @@ class TrajectoryPlanner:
                 f"point {k}: a move of {duration:.6g} s is longer than the longest move, "
                 f"{MAX_MOVE_DURATION_S:g} s"
             )
-        if abs(x1 - x0) < encoder_resolution_m(self.params.r):  # a hold where the axis is
+        if abs(x1 - x0) < axis_resolution_m(self.params):  # a hold where the axis is
             return PlannedMove(k, x0, x0, duration, 0.0, end, True, None)
         fastest = self._fastest(x0, x1)
         if duration < fastest.duration_s:

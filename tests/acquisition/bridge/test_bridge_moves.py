@@ -29,11 +29,12 @@ from axisflow.acquisition import (
 from axisflow.acquisition.bus.publisher import SequencedPublisher, Traffic, wait_for_subscribers
 from axisflow.acquisition.bus.readiness import JoinedSubscriber
 from axisflow.model import AxisParams
+from axisflow.model.transmission import Belt
 
 from axisflow.deploy.processes import wait_until
 
 PARAMS = AxisParams(
-    m=20.0, J_m=1.5e-4, J_g=5e-5, J_p=2e-4, r=0.03, i_r=10.0, L=0.8,
+    m=20.0, transmission=Belt(J_m=1.5e-4, J_g=5e-5, J_p=2e-4, r=0.03, i_r=10.0), L=0.8,
     a1=100.0, a2=50.0, a3=20.0, a4=50.0, v_max=1.0, tau_max=3.0,
 )  # fmt: skip
 T0 = 1_700_000_000_000_000_000

@@ -10,10 +10,11 @@ from axisflow.acquisition.drives.drive import Setpoint
 from axisflow.acquisition.wire.messages import SAMPLED_LAW, Knots
 from axisflow.identification.excitation import design_excitation
 from axisflow.model import EXECUTION_PERIOD_S, AxisParams, cart_force, default_params
+from axisflow.model.transmission import Belt
 
 # a fixed axis (the paper's geometry), so the tests do not depend on the packaged defaults
 PARAMS = AxisParams(
-    m=20.0, J_m=1.5e-4, J_g=5e-5, J_p=2e-4, r=0.03, i_r=10.0, L=0.8,
+    m=20.0, transmission=Belt(J_m=1.5e-4, J_g=5e-5, J_p=2e-4, r=0.03, i_r=10.0), L=0.8,
     a1=100.0, a2=50.0, a3=20.0, a4=50.0, v_max=1.0, tau_max=3.0,
 )  # fmt: skip
 T0 = 1_700_000_000_000_000_000
