@@ -136,7 +136,7 @@ def truth_and_nominal(path: Path | None) -> tuple[AxisParams, AxisParams]:
 
 def simulated_axis_row(path: Path | None, folder: Path, seed: int) -> dict[str, Any]:
     from ..identification.excitation import design_excitation
-    from ..offline_excitation import record_offline_excitation
+    from .toolkit.offline_excitation import record_offline_excitation
 
     true, user = truth_and_nominal(path)
     name = path.stem if path else "packaged belt axis"

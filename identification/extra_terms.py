@@ -39,6 +39,29 @@ ALIAS_FRACTION = 0.25
 """cogging terms are kept where n·|θ̇|/2π is below this fraction of the sampling rate"""
 
 
+def extra_terms_from_text(
+    stroke_terms: int, cogging: str, terms: tuple[str, ...] | None = None
+) -> ExtraTerms:
+    """The extra terms of a command line: ``stroke_terms`` Legendre terms, ``cogging`` as orders
+    ("24,48"), "auto" or "none", and the chosen ``terms`` (None: the model selection's) — a list
+    without ``stroke`` or ``cogging`` switches that term off."""
+    if terms is not None:
+        stroke_terms = stroke_terms if "stroke" in terms else 0
+        cogging = cogging if "cogging" in terms else "none"
+    text = cogging.strip()
+    orders = []
+    for part in () if text in ("auto", "none") else (p.strip() for p in text.split(",")):
+        if not part:
+            continue
+        try:
+            orders.append(int(part))
+        except ValueError:
+            raise IdentificationError(
+                f"--cogging {cogging}: {part!r} is not a whole number of cycles per motor revolution"
+            ) from None
+    return ExtraTerms(stroke_terms, tuple(orders), auto_cogging=text == "auto")
+
+
 @dataclass(frozen=True)
 class ExtraTerms:
     """Which extra terms a fit takes in (see the module docstring)."""

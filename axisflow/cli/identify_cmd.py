@@ -3,17 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import json
-import os
-import tempfile
-from collections.abc import Sequence
-from pathlib import Path
-from typing import TYPE_CHECKING, cast
+from typing import TYPE_CHECKING
 
 from ..acquisition.wire.keys import DEFAULT_PREFIX
 from ..arguments import add_params_option, finite_float, non_negative_int, params_from_args
-from ..identification.errors import IdentificationError
 from ..identification.extra_terms import DEFAULT_STROKE_TERMS
 from ..identification.fit import PARAMETERS
 from ..identification.preparation import PreparationSettings
@@ -27,8 +21,7 @@ from .column_options import (
 )
 
 if TYPE_CHECKING:
-    from ..identification.refit import IdentifySettings
-    from ..model import AxisParams
+    pass
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -162,48 +155,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
-def _orders(text: str) -> tuple[int, ...]:
-    if text.strip() in ("auto", "none"):
-        return ()
-    orders = []
-    for part in (p.strip() for p in text.split(",")):
-        if not part:
-            continue
-        try:
-            orders.append(int(part))
-        except ValueError:
-            raise IdentificationError(
-                f"--cogging {text}: {part!r} is not a whole number of cycles per motor revolution"
-            ) from None
-    return tuple(orders)
-
-
-def _state_topic(args: argparse.Namespace, logs: Sequence[str | Path]) -> str:
-    """The JointState topic to fit: ``--topic``, else the state topic of ``--axis`` (or of the logs'
-    only axis) in every log; in logs without any axis of ours, their only JointState topic (several
-    are refused with their list); logs without any keep the default topic, whose reading then says
-    what is wrong with them."""
-    from ..acquisition.logs.joint_topics import only_joint_state_topic
-    from ..acquisition.logs.recorded_axes import choose_axis_of_logs, recorded_axes
-
-    if args.topic is not None:
-        if args.prefix is not None:
-            raise IdentificationError(
-                "--prefix goes with --axis, not with --topic (a topic names it already)"
-            )
-        return args.topic
-    if args.axis is None and args.prefix is None and not any(recorded_axes(log) for log in logs):
-        return only_joint_state_topic(logs) or DEFAULT_TOPIC
-    state = choose_axis_of_logs(logs, args.axis, args.prefix).state
-    assert state is not None  # chosen for its state topic
-    return state
-
-
 def run(args: argparse.Namespace) -> int:
-    from ..acquisition.foreign import ForeignLogError, format_of, import_for_reading
+    from ..acquisition.foreign import ForeignLogError, format_of
     from ..acquisition.logs.reader import check_mcap
     from ..experiment.refit_folder import REFIT_FILES
-    from ..identification.extra_terms import ExtraTerms
+    from ..experiment.refit_logs import ForeignColumns, LogChoice, refit_logs
+    from ..identification.extra_terms import extra_terms_from_text
     from ..identification.refit import IdentifySettings
     from ..identification.signals import TimeWindow
     from ..model.files import check_distinct_inputs, check_output_files
@@ -213,23 +170,18 @@ def run(args: argparse.Namespace) -> int:
     chosen = parse_terms(args.terms, keywords=("auto",))
     terms = None if chosen == "auto" else chosen
     assert not isinstance(terms, str)
-    if terms is not None:
-        if "stroke" not in terms:
-            args.stroke_terms = 0
-        if "cogging" not in terms:
-            args.cogging = "none"
     logs = [*args.logs, *args.validate]
-    foreign = [log for log in logs if format_of(log) is not None]
-    for log in logs:
-        if log not in foreign:
-            check_mcap(log)
-    if foreign:
-        cmap = column_map_from_args(args, args.joint)
+    foreign = None
+    if any(format_of(log) is not None for log in logs):
+        foreign = ForeignColumns(column_map_from_args(args, args.joint), csv_options_from_args(args))
     elif column_options_given(args):
         raise ForeignLogError(
             f"{', '.join(column_options_given(args))} map the columns of .csv, .tsv, .parquet and .mat "
             "logs; these logs are MCAP"
         )
+    for log in logs:
+        if format_of(log) is None:
+            check_mcap(log)
     settings = IdentifySettings(  # the topic and joint once the logs are read
         joint_kind=args.joint_kind,
         fit=None if args.fit is None else tuple(name.strip() for name in args.fit.split(",") if name.strip()),
@@ -240,22 +192,13 @@ def run(args: argparse.Namespace) -> int:
         torque_delay_s=args.torque_delay,
         holdout=args.holdout,
         window=TimeWindow(args.start, args.end),
-        extra=ExtraTerms(
-            args.stroke_terms, _orders(args.cogging), auto_cogging=args.cogging.strip() == "auto"
-        ),
+        extra=extra_terms_from_text(args.stroke_terms, args.cogging, terms),
     )
     check_distinct_inputs(logs, "log")  # the same samples twice would shrink the uncertainty
     # a bad --out fails before the work, not after it
     out = check_output_files(args.out, REFIT_FILES, inputs=logs, overwrite=args.overwrite)
-    with tempfile.TemporaryDirectory(prefix="axisflow-identify-") as folder:
-        imported = {}
-        if foreign:
-            read = import_for_reading(foreign, cmap, folder, csv=csv_options_from_args(args))
-            imported = dict(zip(foreign, read, strict=True))
-        fit = [imported.get(log, log) for log in args.logs]
-        validate = [imported.get(log, log) for log in args.validate]
-        sides = {log.side for log in imported.values()}
-        report = _refit(args, settings, nominal, out, fit, validate, sides.pop() if len(sides) == 1 else None)
+    choice = LogChoice(args.topic, args.axis, args.prefix, args.joint)
+    report = refit_logs(out, args.logs, args.validate, nominal, settings, choice, foreign)
     if args.json:
         print(json.dumps(report, indent=1))
     else:
@@ -265,30 +208,3 @@ def run(args: argparse.Namespace) -> int:
         written = ", ".join(str(out / name) for name in REFIT_FILES[:-1])
         print(f"\nwrote {written} and {out / REFIT_FILES[-1]}")
     return 0
-
-
-def _refit(
-    args: argparse.Namespace,
-    settings: IdentifySettings,
-    nominal: AxisParams,
-    out: Path,
-    fit: list[str | os.PathLike],
-    validate: list[str | os.PathLike],
-    imported_side: str | None,
-) -> dict:
-    """The refit of ``fit`` (validated on ``validate``) written to ``out``; report.json's content. The
-    topic and joint are chosen here, from the logs; ``imported_side``: the side of the foreign logs
-    among them (the kind of a joint they name otherwise)."""
-    from ..acquisition.logs.joint_topics import choose_joint
-    from ..experiment.refit_folder import identify_to
-
-    # an ImportedLog is a path-like, not a Path: everything below opens its logs through os.fspath
-    # (the temporary MCAP) and names them through str (the file the user gave)
-    fit_paths, validate_paths = cast("list[str | Path]", fit), cast("list[str | Path]", validate)
-    logs = [*fit_paths, *validate_paths]
-    topic = _state_topic(args, logs)
-    joint = args.joint if args.joint is not None else choose_joint(logs, topic, DEFAULT_JOINT)
-    kind = settings.joint_kind if settings.joint_kind is not None else imported_side
-    chosen = dataclasses.replace(settings, topic=topic, joint=joint, joint_kind=kind)
-    _ident, report = identify_to(out, fit_paths, nominal, chosen, validate=validate_paths)
-    return report

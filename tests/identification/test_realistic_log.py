@@ -3,10 +3,10 @@ belt, friction along the stroke, jittered stamps, 0.1 % of the samples lost, the
 velocity), the acceptance of issue 21: M_eq within 2 %, the Coulomb force at speed a1 + a3·π/2
 within 3 %, a2 within 5 %, the held-out error within 1.2 × the noise floor the report estimates.
 
-The logs are made offline (offline_excitation.py, beside it: the simulated axis driven through the bridge's
-move queue with the excitation's moves, written with the project's MCAP writer; the path through real
-processes is tests/demo): one to fit, one with another noise seed to validate on (the same stretch of
-the stroke; the friction there is what the fit saw).
+The logs are made offline (benchmarks/toolkit/offline_excitation.py: the simulated axis driven through
+the bridge's move queue with the excitation's moves, written with the project's MCAP writer; the path
+through real processes is tests/demo): one to fit, one with another noise seed to validate on (the same
+stretch of the stroke; the friction there is what the fit saw).
 """
 
 import dataclasses
@@ -14,13 +14,12 @@ import math
 
 import pytest
 from axisflow.acquisition.drives.plant import load_profile
+from axisflow.benchmarks.toolkit.offline_excitation import record_offline_excitation
 from axisflow.identification.excitation import design_excitation
 from axisflow.identification.extra_terms import ExtraTerms
 from axisflow.identification.refit import IdentifySettings, identify
 from axisflow.identification.report import report_json, report_markdown
 from axisflow.model import default_params
-
-from .offline_excitation import record_offline_excitation
 
 pytestmark = pytest.mark.slow  # a module fixture of several seconds: the whole module is in the slow tier
 

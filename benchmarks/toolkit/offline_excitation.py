@@ -16,19 +16,19 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from axisflow.acquisition.bridge.move_queue import MoveQueue, QueuedMove
-from axisflow.acquisition.drives.plant import PlantConfig
-from axisflow.acquisition.drives.sim_axis import SimulatedAxis
-from axisflow.acquisition.logs.mcap_writer import Ros2McapWriter
-from axisflow.acquisition.wire.axis_sample_encoder import AxisSampleEncoder
-from axisflow.acquisition.wire.drive_info import DRIVE_INFO_TYPE, SIMULATED, DriveInfo
-from axisflow.acquisition.wire.drive_info import PERIOD_TICKS as DRIVE_INFO_PERIOD
-from axisflow.acquisition.wire.keys import AxisKeys, topic_for_key
-from axisflow.acquisition.wire.messages import APPEND, JOINT_STATE_TYPE, SAMPLED_LAW, Knots, MoveCommand
-from axisflow.identification.excitation import ExcitationPlan
-from axisflow.identification.signals import TimeWindow
-from axisflow.model import AxisParams, move_ticks, polynomial_law
-from axisflow.planner import Case, MoveProblem, solve_exact
+from ...acquisition.bridge.move_queue import MoveQueue, QueuedMove
+from ...acquisition.drives.plant import PlantConfig
+from ...acquisition.drives.sim_axis import SimulatedAxis
+from ...acquisition.logs.mcap_writer import Ros2McapWriter
+from ...acquisition.wire.axis_sample_encoder import AxisSampleEncoder
+from ...acquisition.wire.drive_info import DRIVE_INFO_TYPE, SIMULATED, DriveInfo
+from ...acquisition.wire.drive_info import PERIOD_TICKS as DRIVE_INFO_PERIOD
+from ...acquisition.wire.keys import AxisKeys, topic_for_key
+from ...acquisition.wire.messages import APPEND, JOINT_STATE_TYPE, SAMPLED_LAW, Knots, MoveCommand
+from ...identification.excitation import ExcitationPlan
+from ...identification.signals import TimeWindow
+from ...model import AxisParams, move_ticks, polynomial_law
+from ...planner import Case, MoveProblem, solve_exact
 
 RECORD_DELAY_NS = 400_000
 """log time − publish time of the written messages [ns] (what the recorder sees on loopback)"""
