@@ -87,9 +87,10 @@ def test_a_non_finite_value_is_refused(key, value):
 def test_the_combination_rules_refuse_exactly_the_axes_they_describe(tau_max, i_r, r, a1, v_max):
     from axisflow.model.friction import FrictionLaw
 
-    cannot_move = tau_max * i_r / r <= a1
-    too_fast = v_max * i_r / r > MAX_MOTOR_SPEED_RAD_S
     belt = Belt(1e-4, 0.0, 1e-4, r, i_r)
+    # i_r/r as the transmission rounds it (tau_max·i_r/r and tau_max·(i_r/r) differ in the last bit)
+    cannot_move = tau_max * belt.force_per_torque <= a1
+    too_fast = v_max * belt.radians_per_metre > MAX_MOTOR_SPEED_RAD_S
     law = FrictionLaw(a1=a1)
     if cannot_move or too_fast:
         with pytest.raises(ParameterError, match="F_max = tau_max·i_r/r" if cannot_move else "v_max·i_r/r"):
