@@ -17,6 +17,7 @@ FOLDERS = {
     "acquisition": "acquisition",
     "identification": "identification",
     "viz": "viz",
+    "fleet": "fleet",
     "benchmarks": "benchmarks",
     "axisflow/cli": "cli",
     "axisflow/security": "top",
@@ -31,9 +32,10 @@ ALLOWED = {
     "acquisition": {"model"},
     "identification": {"model", "acquisition"},
     "viz": {"model", "planner", "acquisition", "identification"},
+    "fleet": {"model", "acquisition", "identification"},
     "top": {"model", "planner", "acquisition", "identification", "viz"},
-    "benchmarks": {"model", "planner", "acquisition", "identification", "viz", "top"},
-    "cli": {"model", "planner", "acquisition", "identification", "viz", "top", "benchmarks"},
+    "benchmarks": {"model", "planner", "acquisition", "identification", "viz", "fleet", "top"},
+    "cli": {"model", "planner", "acquisition", "identification", "viz", "fleet", "top", "benchmarks"},
 }
 # the sub-package a dotted name under axisflow belongs to
 SUBPACKAGES = {
@@ -42,6 +44,7 @@ SUBPACKAGES = {
     "acquisition": "acquisition",
     "identification": "identification",
     "viz": "viz",
+    "fleet": "fleet",
     "benchmarks": "benchmarks",
     "cli": "cli",
 }
