@@ -39,6 +39,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "record_cmd",
     "excite_cmd",
     "identify_cmd",
+    "fleet_cmd",
     "planner_cmd",
     "adapt_cmd",
     "stop_cmd",
