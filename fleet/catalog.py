@@ -125,7 +125,8 @@ def read_parquet_table(path: Path, fmt: str, what: str) -> Any:
     except FileNotFoundError:
         raise FleetError(f"{path.parent} is not a fleet catalog: it has no {path.name}") from None
     except (pyarrow.lib.ArrowException, OSError) as exc:
-        raise FleetError(f"{path} is not a {what} (not a Parquet file: {exc})") from None
+        first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise FleetError(f"{path} is not a {what} (not a Parquet file: {first})") from None
     found = (table.schema.metadata or {}).get(FORMAT_KEY, b"").decode(errors="replace")
     if found != fmt:
         seen = f"its format is {found!r}" if found else "it has no axisflow format mark"
@@ -237,6 +238,8 @@ def index_logs(
     for e in previous:
         by_path.setdefault(e.path, []).append(e)
     logs = find_logs(paths)
+    if not logs:
+        raise FleetValueError(f"no MCAP log (*.mcap) under {', '.join(str(p) for p in paths)}")
     scanned = {str(p) for p in logs}
     # rows of files that are gone, outside this scan's folders, stay only if this scan did not cover them
     kept = [e for path, rows in by_path.items() if path not in scanned and Path(path).exists() for e in rows]

@@ -1,75 +1,30 @@
 """The Dask job: windows identified on Dask distributed, a task per window, results into the fits table.
 
-:func:`fleet_client` gives a client: of a new :class:`distributed.LocalCluster` (``workers``
-processes — the fit holds the GIL, so threads would not run in parallel — of one thread each, so a
-worker holds one window's samples at a time; scheduler, workers and their nannies on 127.0.0.1, no
-dashboard), or of a running scheduler (``--scheduler tcp://host:8786``: its workers must have
-axisflow installed and see the logs' paths). A scheduler that does not answer within the timeout is
-a :class:`~.errors.FleetError` naming it.
-
-:func:`identify_windows` submits one task per window not yet in the fits table: the task carries the
-window's description (paths and hashes, a few hundred bytes), the worker reads the logs and returns a
-row (:func:`~.window_fit.fit_window_row`). Rows are gathered as they complete, the progress is
-reported, and the table is written (atomically) every :data:`SAVE_EVERY_S` and at the end, so an
-interrupted run keeps what it finished. A task whose worker died is a ``failed`` row.
+The job runs on a client of :func:`~.cluster.fleet_client` (a LocalCluster of worker processes on
+127.0.0.1, or a running scheduler). :func:`identify_windows` submits one task per window not yet in
+the fits table: the task carries the window's description (paths and hashes, a few hundred bytes),
+the worker reads the logs and returns a row (:func:`~.window_fit.fit_window_row`). Rows are gathered
+as they complete, the progress is reported, and the table is written (atomically) every
+:data:`SAVE_EVERY_S` and at the end, so an interrupted run keeps what it finished. A task whose worker
+died is a ``failed`` row. With nothing new to do, :func:`identify_fleet` starts no cluster.
 """
 
 from __future__ import annotations
 
-import logging
 import time
-from collections.abc import Callable, Iterator, Sequence
-from contextlib import contextmanager
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from .catalog import read_catalog
-from .errors import FleetError, FleetValueError
+from .cluster import CONNECT_TIMEOUT_S, DEFAULT_WORKERS, fleet_client
 from .fits import FAILED, FitRow, read_fits, write_fits
 from .window_fit import FitSettings, WindowResult, empty_row, fit_window_row
 from .windows import Window, WindowSpec, plan_windows
 
 SAVE_EVERY_S = 30.0
 """how often a running job writes the rows it has [s]"""
-CONNECT_TIMEOUT_S = 10.0
-MAX_LOCAL_WORKERS = 64
-LOOPBACK = "127.0.0.1"
-
-
-@contextmanager
-def fleet_client(
-    workers: int = 2, scheduler: str | None = None, timeout_s: float = CONNECT_TIMEOUT_S
-) -> Iterator[Any]:
-    """A :class:`distributed.Client` (see the module docstring), closed (with its cluster) on exit."""
-    from distributed import Client, LocalCluster
-
-    if scheduler is not None:
-        try:
-            client = Client(scheduler, timeout=f"{timeout_s}s")
-        except (OSError, TimeoutError, ValueError) as exc:
-            raise FleetError(
-                f"scheduler {scheduler} does not answer within {timeout_s:g} s ({type(exc).__name__})"
-            ) from None
-        with client:
-            yield client
-        return
-    if not 1 <= workers <= MAX_LOCAL_WORKERS:
-        raise FleetValueError(f"--workers {workers} must be within [1, {MAX_LOCAL_WORKERS}] workers")
-    cluster = LocalCluster(
-        n_workers=workers,
-        threads_per_worker=1,
-        processes=True,
-        host=LOOPBACK,
-        scheduler_port=0,
-        dashboard_address=None,
-        worker_dashboard_address=None,
-        # no dashboard; the scheduler's own HTTP server (health, metrics) on loopback, any free port
-        scheduler_kwargs={"dashboard": False, "dashboard_address": f"{LOOPBACK}:0"},
-        silence_logs=logging.ERROR,
-    )
-    with cluster, Client(cluster) as client:
-        yield client
 
 
 @dataclass(frozen=True)
@@ -159,10 +114,11 @@ def identify_fleet(
     catalog: str | Path,
     windows: WindowSpec,
     settings: FitSettings,
-    workers: int = 2,
+    workers: int = DEFAULT_WORKERS,
     scheduler: str | None = None,
     progress: Callable[[Progress], None] | None = None,
     redo: bool = False,
+    timeout_s: float = CONNECT_TIMEOUT_S,
 ) -> JobResult:
     """``fleet identify``: the catalog's windows (:func:`~.windows.plan_windows`) identified on a
     LocalCluster of ``workers`` or on ``scheduler``, into ``catalog/fits.parquet``."""
@@ -174,5 +130,5 @@ def identify_fleet(
     if not todo:  # nothing new: no cluster to start
         path = write_fits(folder, kept)
         return JobResult((), len(kept), len(planned), time.perf_counter() - t0, {}, path)
-    with fleet_client(workers, scheduler) as client:
+    with fleet_client(workers, scheduler, timeout_s) as client:
         return identify_windows(client, planned, settings, folder, progress, redo)

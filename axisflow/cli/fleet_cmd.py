@@ -9,8 +9,8 @@ import sys
 import time
 
 from ..arguments import add_params_option, finite_float, non_negative_int, params_from_args, positive_int
+from ..fleet.cluster import CONNECT_TIMEOUT_S, DEFAULT_WORKERS
 
-DEFAULT_WORKERS = 2
 DASK_LOGGERS = ("distributed", "bokeh", "tornado")
 """Dask's loggers: a cluster's start and stop say a dozen lines at INFO; shown only with -v"""
 
@@ -56,6 +56,13 @@ def _cluster_options(p: argparse.ArgumentParser) -> None:
         default=None,
         metavar="ADDR",
         help="a running Dask scheduler instead (tcp://host:8786); its workers must see the logs' paths",
+    )
+    p.add_argument(
+        "--connect-timeout",
+        type=finite_float,
+        default=CONNECT_TIMEOUT_S,
+        metavar="S",
+        help=f"how long a --scheduler has to answer [s] (default {CONNECT_TIMEOUT_S:g})",
     )
     p.add_argument("--json", action="store_true", help="print the summary as JSON (no progress)")
 
@@ -236,8 +243,6 @@ def run_index(args: argparse.Namespace) -> int:
             f"{result.unchanged} unchanged, {result.removed} removed, {result.unreadable} unreadable, "
             f"in {result.wall_s:.1f} s"
         )
-    if not result.entries:
-        raise FleetError(f"no MCAP log (*.mcap) under {', '.join(args.paths)}")
     if not any(e.ok for e in result.entries):
         raise FleetError(f"none of the {len(result.entries)} logs could be indexed (each is named above)")
     return 0
@@ -264,6 +269,7 @@ def run_identify(args: argparse.Namespace) -> int:
         args.scheduler,
         lambda p: show(p.line(), p.done == p.total),
         args.redo,
+        args.connect_timeout,
     )
     counts: dict[str, int] = {}
     for row in result.new:
@@ -315,7 +321,7 @@ def run_trend(args: argparse.Namespace) -> int:
 
 def run_simulate(args: argparse.Namespace) -> int:
     _quiet_dask(args)
-    from ..fleet.job import fleet_client
+    from ..fleet.cluster import fleet_client
     from ..fleet.simulate import (
         DEFAULT_FIRST_DAY,
         FleetSpec,
@@ -336,7 +342,7 @@ def run_simulate(args: argparse.Namespace) -> int:
     )
     out = check_simulation_dir(args.out, args.overwrite)
     show = _Progress(args.json, "simulate")
-    with fleet_client(args.workers, args.scheduler) as client:
+    with fleet_client(args.workers, args.scheduler, args.connect_timeout) as client:
         result = simulate_fleet(
             spec, out, client, nominal, lambda d, n: show(f"{d}/{n} logs written", d == n)
         )
