@@ -169,8 +169,17 @@ class FleetSpec:
     """the first day, ISO date (UTC)"""
     wear: tuple[WearSpec, ...] = ()
     idle: tuple[IdleSpec, ...] = ()
+    bursts: tuple[tuple[float, float], ...] = DAY_BURSTS
+    """a day's bursts: (velocity amplitude [m/s], frequency [Hz]) (the tests use fewer)"""
 
     def __post_init__(self) -> None:
+        if not self.bursts:
+            raise FleetValueError("a simulated day needs at least one burst")
+        for speed, f_hz in self.bursts:
+            if not (0.001 <= speed <= 1.0 and 0.1 <= f_hz <= 2.0):
+                raise FleetValueError(
+                    f"burst ({speed} m/s, {f_hz} Hz) must be within [0.001, 1] m/s and [0.1, 2] Hz"
+                )
         if not 1 <= self.axes <= MAX_AXES:
             raise FleetValueError(f"--axes {self.axes} must be within [1, {MAX_AXES}] axes")
         if not 1 <= self.days <= MAX_DAYS:
@@ -275,6 +284,7 @@ class FleetTruth:
                 "first_day": self.spec.first_day,
                 "wear": [asdict(w) for w in self.spec.wear],
                 "idle": [asdict(i) for i in self.spec.idle],
+                "bursts": [list(b) for b in self.spec.bursts],
             },
             "nominal": self.nominal,
             "axes": [
@@ -308,6 +318,7 @@ class FleetTruth:
             first_day=s["first_day"],
             wear=tuple(WearSpec(**w) for w in s["wear"]),
             idle=tuple(IdleSpec(**i) for i in s["idle"]),
+            bursts=tuple((float(v), float(f)) for v, f in s.get("bursts", DAY_BURSTS)),
         )
         axes = tuple(
             AxisTruth(
@@ -393,10 +404,10 @@ def _plant(
 
 def day_plan(spec: FleetSpec, axis_index: int, day: int, nominal: AxisParams) -> ExcitationPlan:
     """The day's bursts around mid-stroke, in an order drawn for the axis and day."""
-    order = np.random.default_rng([spec.seed, axis_index, day]).permutation(len(DAY_BURSTS))
+    order = np.random.default_rng([spec.seed, axis_index, day]).permutation(len(spec.bursts))
     bursts = []
     for i in order:
-        speed, f_hz = DAY_BURSTS[int(i)]
+        speed, f_hz = spec.bursts[int(i)]
         bursts.append(Burst(speed / (2.0 * math.pi * f_hz), f_hz, 1))
     return ExcitationPlan(nominal.L / 2.0, tuple(bursts), 1.0)
 

@@ -9,16 +9,19 @@ The detector (:func:`detect`) is a two-sided CUSUM in units of σ against the ax
 windows:
 
 * **baseline**: the first B windows (:attr:`DetectorSettings.baseline_windows`): level μ₀ = their
-  median; their scatter beyond the fits' own σ, τ² = max(0, (1.4826·MAD)² − median σ²), is added to
-  every window's σ: s_i² = σ_i² + τ² (a fit's σ counts the noise of its samples, not what changes from
-  day to day);
+  median;
+* **scale**: a fit's σ counts the noise of its samples, not what changes from day to day; that
+  scatter, τ² = max(0, (1.4826·MAD(Δy)/√2)² − median σ²) from the successive differences Δy of the
+  whole series (a step moves one of them), is added to every window's: s_i² = σ_i² + τ²;
 * **statistic**: z_i = (y_i − μ₀)/s_i for each later window; S⁺_i = max(0, S⁺_(i−1) + z_i − k),
   S⁻_i likewise with −z_i; an alarm where S⁺ or S⁻ exceeds h, its onset the first window of the run
   that crossed (the window after S was last 0), the standard CUSUM change-point estimate;
-* **k**, the reference value, is half the smallest shift worth an alarm, in σ units: the larger of
+* **k**, the reference value, is half the smallest shift worth an alarm, in σ units — the larger of
   :attr:`~DetectorSettings.min_shift_sigma` and :attr:`~DetectorSettings.min_change_pct` of μ₀ over
-  the baseline's typical s — a change far inside the fits' noise but below the practical threshold
-  (a fraction of a per cent) is real, and no engineer would stop a line for it;
+  the baseline's typical s (a change far inside the fits' noise but below the practical threshold,
+  a fraction of a per cent, is real, and no engineer would stop a line for it) — plus three σ of the
+  baseline's own error (1.2533/√B for a median of B): the run-length formula below assumes a known
+  level, and an estimated one is shared by every later window;
 * **h**, the decision interval, holds the false alarm rate over the **whole period and fleet**: with
   Siegmund's approximation of a one-sided CUSUM's in-control run length for standard normal z,
   ARL₀(k, h) = (e^(2k·b) − 2k·b − 1)/(2k²), b = h + 1.166, h is the smallest value with
@@ -51,6 +54,15 @@ TRENDED: dict[str, tuple[str, str]] = {
 WATCHED = ("coulomb_n", "a2")
 """the parameters the change detector watches (wear shows in friction)"""
 SIEGMUND_OFFSET = 1.166
+BASELINE_BOUND = 3.0
+SCALE_BOUND = 2.0
+MAD_RELATIVE_STD = 1.167
+"""a MAD-based standard deviation of n normal values is off by about 1.167/√n (relative): the scatter
+is taken at 2 of those above its estimate, so that a series whose scatter happened to look small
+does not look like a change"""
+MEDIAN_EFFICIENCY = 1.2533
+"""the baseline's median is off by about 1.2533·s/√B (σ units): k is raised by 3 of those, so that a
+baseline that happened to land low does not look like a change"""
 LAST_WINDOWS = 3
 """the change of an alarm: the median of this many last windows against the baseline"""
 
@@ -164,6 +176,17 @@ class Detection:
     baseline_windows: int
 
 
+def extra_scatter(y: np.ndarray, sigma: np.ndarray) -> float:
+    """τ: the scatter from window to window beyond the fits' σ, from the successive differences of the
+    whole series (robust: a step moves one difference, a slow ramp all of them a little)."""
+    diffs = np.diff(y)
+    if diffs.size < 2:
+        return 0.0
+    spread = 1.4826 * float(np.median(np.abs(diffs - np.median(diffs)))) / math.sqrt(2.0)
+    spread *= 1.0 + SCALE_BOUND * MAD_RELATIVE_STD / math.sqrt(diffs.size)
+    return math.sqrt(max(spread * spread - float(np.median(sigma**2)), 0.0))
+
+
 def watched_windows(series: Sequence[Series], settings: DetectorSettings) -> int:
     """N of the false alarm budget: the windows after the baselines of all the watched series."""
     return sum(max(len(s) - settings.baseline_windows, 0) for s in series)
@@ -175,16 +198,14 @@ def detect(series: Series, settings: DetectorSettings, watched: int) -> Detectio
     y, sigma = series.value, series.std
     if len(series) <= b or not np.all(np.isfinite(sigma[:b])):
         return None
-    base = y[:b]
-    mu0 = float(np.median(base))
-    mad = 1.4826 * float(np.median(np.abs(base - mu0)))
-    tau = math.sqrt(max(mad * mad - float(np.median(sigma[:b] ** 2)), 0.0))
+    mu0 = float(np.median(y[:b]))
+    tau = extra_scatter(y, sigma)
     s = np.sqrt(sigma**2 + tau**2)
     s_typ = float(np.median(s[:b]))
     if not s_typ > 0:
         return None
     shift = max(settings.min_shift_sigma, settings.min_change_pct / 100.0 * abs(mu0) / s_typ)
-    k = 0.5 * shift
+    k = 0.5 * shift + BASELINE_BOUND * MEDIAN_EFFICIENCY / math.sqrt(b)
     h = decision_interval(k, watched, settings.false_alarm)
     n = len(series)
     z = np.full(n, np.nan)
