@@ -232,14 +232,15 @@ def index_logs(
     docstring). ``progress(done, total)`` is called after each file read."""
     t0 = time.perf_counter()
     s = settings or IndexSettings()
-    folder = ensure_dir(catalog)
-    previous = read_catalog(folder) if (folder / CATALOG_FILE).exists() else []
-    by_path: dict[str, list[CatalogEntry]] = {}
-    for e in previous:
-        by_path.setdefault(e.path, []).append(e)
     logs = find_logs(paths)
     if not logs:
         raise FleetValueError(f"no MCAP log (*.mcap) under {', '.join(str(p) for p in paths)}")
+    folder = Path(catalog)
+    previous = read_catalog(folder) if (folder / CATALOG_FILE).exists() else []
+    ensure_dir(folder)
+    by_path: dict[str, list[CatalogEntry]] = {}
+    for e in previous:
+        by_path.setdefault(e.path, []).append(e)
     scanned = {str(p) for p in logs}
     # rows of files that are gone, outside this scan's folders, stay only if this scan did not cover them
     kept = [e for path, rows in by_path.items() if path not in scanned and Path(path).exists() for e in rows]

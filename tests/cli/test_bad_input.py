@@ -31,6 +31,7 @@ from axisflow.acquisition import AxisSample
 from axisflow.acquisition.logs.mcap_writer import Ros2McapWriter
 from axisflow.acquisition.logs.synthetic_log import SyntheticLogSpec
 from axisflow.acquisition.wire.messages import JOINT_STATE_TYPE, MOVE_TYPE
+from axisflow.fleet.catalog import index_logs
 from axisflow.model import default_params
 
 from axisflow.cli import main
@@ -1269,6 +1270,129 @@ FILE_CASES = [
         says=(LONG, "File name too long"),
     ),
 ]
+FLEET_CASES = [
+    case(
+        "fleet: a catalog that is not one",
+        "fleet",
+        "identify",
+        "--catalog",
+        "fake-cat",
+        says=("fake-cat/catalog.parquet", "is not a fleet catalog"),
+    ),
+    case(
+        "fleet: index into a catalog that is not one",
+        "fleet",
+        "index",
+        "still.mcap",
+        "--catalog",
+        "fake-cat",
+        says=("fake-cat/catalog.parquet", "is not a fleet catalog"),
+        untouched=("fake-cat",),
+    ),
+    case(
+        "fleet: a folder without a catalog",
+        "fleet",
+        "identify",
+        "--catalog",
+        "full",
+        says=("full is not a fleet catalog", "no catalog.parquet"),
+    ),
+    case(
+        "fleet: a scheduler that does not answer",
+        "fleet",
+        "identify",
+        "--catalog",
+        "cat",
+        "--scheduler",
+        "tcp://127.0.0.1:9",
+        "--connect-timeout",
+        "1",
+        says=("scheduler tcp://127.0.0.1:9", "does not answer within 1 s"),
+        untouched=("cat",),
+    ),
+    case(
+        "fleet: a window shorter than 10 s",
+        "fleet",
+        "identify",
+        "--catalog",
+        "cat",
+        "--window",
+        "5",
+        says=("--window 5 s", "at least 10 s"),
+    ),
+    case(
+        "fleet: trend before identify",
+        "fleet",
+        "trend",
+        "--catalog",
+        "cat",
+        says=("cat has no fits.parquet", "fleet identify"),
+    ),
+    case(
+        "fleet: a baseline of one window",
+        "fleet",
+        "trend",
+        "--catalog",
+        "cat",
+        "--baseline",
+        "1",
+        says=("--baseline 1 windows", "[2, 1000] windows"),
+    ),
+    case(
+        "fleet: no log under the path",
+        "fleet",
+        "index",
+        "full",
+        "--catalog",
+        "new-cat",
+        says=("no MCAP log", "full"),
+        untouched=("new-cat",),
+    ),
+    case(
+        "fleet: wear of an axis the fleet lacks",
+        "fleet",
+        "simulate",
+        "--axes",
+        "3",
+        "--days",
+        "5",
+        "--out",
+        "sim",
+        "--wear",
+        "a7:2:10",
+        says=("--wear a7", "no such axis", "a0…a2"),
+        untouched=("sim",),
+    ),
+    case(
+        "fleet: wear after the last day",
+        "fleet",
+        "simulate",
+        "--axes",
+        "3",
+        "--days",
+        "5",
+        "--out",
+        "sim",
+        "--wear",
+        "a1:9:10",
+        says=("--wear a1: day 9", "outside the 5 days"),
+        untouched=("sim",),
+    ),
+    case(
+        "fleet: simulate into a simulated fleet",
+        "fleet",
+        "simulate",
+        "--axes",
+        "2",
+        "--days",
+        "2",
+        "--out",
+        "sim-fleet",
+        says=("sim-fleet holds a simulated fleet already", "--overwrite"),
+        untouched=("sim-fleet",),
+    ),
+]
+CASES += FLEET_CASES
 CASES += FILE_CASES
 
 
@@ -1328,6 +1452,11 @@ def inputs(tmp_path_factory, damage) -> Path:
     _recording(d / "wrong-schema.mcap", schema=MOVE_TYPE)
     _recording(d / "nan-samples.mcap", nan=True)
     (d / "truncated.mcap").write_bytes((d / "still.mcap").read_bytes()[:40])  # magic and header only
+    (d / "fake-cat").mkdir()
+    (d / "fake-cat" / "catalog.parquet").write_text("not a catalog\n")
+    index_logs([d / "still.mcap"], d / "cat", default_params())
+    (d / "sim-fleet").mkdir()
+    (d / "sim-fleet" / "truth.json").write_text("{}\n")
     init_security(SecurityPlan(d / "secure", days=2))
     (d / "still-link.mcap").symlink_to("still.mcap")
     (d / "still-link.rrd").symlink_to("still.mcap")
