@@ -265,7 +265,9 @@ def index_logs(
         entries += rows
         if progress is not None:
             progress(i + 1, len(todo))
-    path = write_catalog(folder, entries)
+    path = folder / CATALOG_FILE
+    if todo or removed or not path.exists():  # an unchanged catalog is not written again
+        write_catalog(folder, entries)
     return IndexResult(
         tuple(entries), len(todo), unchanged, removed, unreadable, time.perf_counter() - t0, path
     )

@@ -19,7 +19,7 @@ from typing import Any
 
 from .catalog import read_catalog
 from .cluster import CONNECT_TIMEOUT_S, DEFAULT_WORKERS, fleet_client
-from .fits import FAILED, FitRow, read_fits, write_fits
+from .fits import FAILED, FITS_FILE, FitRow, read_fits, write_fits
 from .window_fit import FitSettings, WindowResult, empty_row, fit_window_row
 from .windows import Window, WindowSpec, plan_windows
 
@@ -127,8 +127,10 @@ def identify_fleet(
     entries = read_catalog(folder)
     planned = plan_windows(entries, windows, settings.method())
     kept, todo = pending(planned, folder, redo)
-    if not todo:  # nothing new: no cluster to start
-        path = write_fits(folder, kept)
+    if not todo:  # nothing new: no cluster to start, and the table is only rewritten if it shrinks
+        path = folder / FITS_FILE
+        if len(kept) != len(read_fits(folder, missing_ok=True)):
+            write_fits(folder, kept)
         return JobResult((), len(kept), len(planned), time.perf_counter() - t0, {}, path)
     with fleet_client(workers, scheduler, timeout_s) as client:
         return identify_windows(client, planned, settings, folder, progress, redo)

@@ -24,6 +24,7 @@ BENCHMARKS: dict[str, str] = {
     "pipeline": "pipeline",
     "planner": "planner",
     "identify": "identify",
+    "fleet": "fleet",
     "view": "view",
     "faults": "faults",
     "plant": "plant",
