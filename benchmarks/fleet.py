@@ -42,6 +42,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--baseline-windows", type=int, default=4, metavar="N", help="windows of the serial baseline"
     )
+    parser.add_argument(
+        "--judge",
+        default=None,
+        metavar="CATALOG",
+        help="instead: judge a catalog's fits and alarms (of `fleet identify` and `fleet trend` on the "
+        "fleet of --fleet) against the fleet's truth.json, and time nothing",
+    )
 
 
 def _say(args: argparse.Namespace, text: str) -> None:
@@ -68,7 +75,72 @@ def _cli(*argv: str) -> tuple[float, dict]:
     return wall, json.loads(proc.stdout)
 
 
+def judge(catalog: Path, fleet: Path) -> dict:
+    """The alarms against the truth (the worn axes, onsets within 2 days) and every ok fit's Coulomb
+    friction at 0.2 m/s against the truth of its day over its stretch, in units of its σ."""
+    from datetime import datetime
+
+    from ..fleet.alarms import read_alarms
+    from ..fleet.fits import read_fits
+    from ..fleet.simulate import read_truth
+    from ..fleet.window_fit import COULOMB_SPEED_M_S
+    from ..fleet.windows import NS_PER_DAY
+    from ..model import forward_friction
+
+    truth = read_truth(fleet / "truth.json")
+    alarms = read_alarms(catalog / "alarms.json")
+    worn = {a.axis: truth.onset_iso(a) for a in truth.axes if a.wear is not None}
+    found = []
+    for alarm in alarms:
+        onset = datetime.fromisoformat(alarm.onset.replace("Z", "+00:00"))
+        true = worn.get(alarm.axis)
+        late = (
+            (onset - datetime.fromisoformat(true.replace("Z", "+00:00"))).total_seconds() / 86400
+            if true
+            else None
+        )
+        found.append(
+            {
+                "axis": alarm.axis,
+                "parameter": alarm.parameter,
+                "onset": alarm.onset,
+                "true_onset": true,
+                "days_off": late,
+                "change_pct": alarm.change_pct,
+                "sigma_pct": alarm.sigma_pct,
+            }
+        )
+    z = []
+    for row in read_fits(catalog):
+        if not row.ok or truth.axis(row.axis).wear is not None:
+            continue
+        day = (row.window_start_ns - truth.spec.first_day_ns) // NS_PER_DAY
+        params = truth.params_on(row.axis, int(day), (row.stretch_low_m, row.stretch_high_m))
+        true_f = float(forward_friction(COULOMB_SPEED_M_S, params))
+        z.append(((row.coulomb_n - true_f) / row.coulomb_std_n, 100.0 * (row.coulomb_n / true_f - 1.0)))
+    errors = sorted(abs(e) for e, _ in z)
+    return {
+        "alarms": found,
+        "alarm_axes_exactly_the_worn": sorted({a["axis"] for a in found}) == sorted(worn),
+        "onsets_within_2_days": all(a["days_off"] is not None and abs(a["days_off"]) <= 2 for a in found),
+        "unworn_fits": len(z),
+        "within_1_sigma": sum(e <= 1 for e in errors) / max(len(z), 1),
+        "within_2_sigma": sum(e <= 2 for e in errors) / max(len(z), 1),
+        "within_3_sigma": sum(e <= 3 for e in errors) / max(len(z), 1),
+        "median_error_sigma": float(sorted(e for e, _ in z)[len(z) // 2]) if z else float("nan"),
+        "median_error_pct": float(sorted(p for _, p in z)[len(z) // 2]) if z else float("nan"),
+        "max_abs_error_pct": max((abs(p) for _, p in z), default=float("nan")),
+    }
+
+
 def run(args: argparse.Namespace) -> int:
+    if args.judge is not None:
+        if args.fleet is None:
+            from ..fleet.errors import FleetValueError
+
+            raise FleetValueError("--judge needs --fleet DIR (the simulated fleet with its truth.json)")
+        print(json.dumps(judge(Path(args.judge), Path(args.fleet)), indent=2))
+        return 0
     from ..fleet.catalog import index_logs
     from ..fleet.cluster import fleet_client
     from ..fleet.job import identify_windows
