@@ -144,7 +144,7 @@ def run(args: argparse.Namespace) -> int:
     from ..fleet.catalog import index_logs
     from ..fleet.cluster import fleet_client
     from ..fleet.job import identify_windows
-    from ..fleet.simulate import FleetSpec, WearSpec, default_nominal, simulate_fleet
+    from ..fleet.simulate import FleetSpec, WearSpec, axis_names, default_nominal, simulate_fleet
     from ..fleet.window_fit import FitSettings, fit_window_row
     from ..fleet.windows import WindowSpec, plan_windows
 
@@ -155,7 +155,7 @@ def run(args: argparse.Namespace) -> int:
         tmp = Path(tmpdir)
         if args.fleet is None:
             logs = tmp / "logs"
-            wear = (WearSpec("a01", args.days // 2, 25),) if args.axes > 1 else ()
+            wear = (WearSpec(axis_names(args.axes)[1], args.days // 2, 25),) if args.axes > 1 else ()
             spec = FleetSpec(axes=args.axes, days=args.days, wear=wear)
             _say(args, f"simulating {args.axes} axes × {args.days} days on 2 workers")
             with fleet_client(2) as client:
