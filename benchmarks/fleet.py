@@ -133,7 +133,19 @@ def judge(catalog: Path, fleet: Path) -> dict:
     }
 
 
+def _quiet_dask(args: argparse.Namespace) -> None:
+    """Dask's loggers say a dozen lines at INFO for each cluster: shown only with -v (as ``fleet``)."""
+    import logging
+
+    import distributed  # noqa: F401 - its import configures its loggers: quieten them after it
+
+    if not getattr(args, "verbose", 0):
+        for name in ("distributed", "bokeh", "tornado"):
+            logging.getLogger(name).setLevel(logging.ERROR)
+
+
 def run(args: argparse.Namespace) -> int:
+    _quiet_dask(args)
     if args.judge is not None:
         if args.fleet is None:
             from ..fleet.errors import FleetValueError
