@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..identification.extra_terms import DEFAULT_STROKE_TERMS
+from ..identification.extra_terms import DEFAULT_STROKE_TERMS, ExtraTerms
 from ..identification.refit import Identification, IdentifySettings, identify
 from ..identification.signals import TimeWindow
 from ..model import AxisflowError, AxisParams, forward_friction, params_to_toml
@@ -53,8 +53,6 @@ class FitSettings:
     def identify_settings(self, window: Window) -> IdentifySettings:
         """The settings of ``axisflow identify`` for this window's logs (the same defaults)."""
         first = window.parts[0]
-        from ..identification.extra_terms import ExtraTerms
-
         return IdentifySettings(
             topic=first.topic,
             joint=first.joint,

@@ -288,10 +288,12 @@ def run_identify(args: argparse.Namespace) -> int:
         print(json.dumps(summary, indent=1))
     else:
         done = ", ".join(f"{n} {s.replace('_', ' ')}" for s, n in sorted(counts.items())) or "nothing new"
+        where = f" on {summary['where']}" if result.new else ""
         rss = max(result.peak_rss_mb.values(), default=0.0)
+        memory = f"; peak RSS per worker {rss:.0f} MB" if result.new else ""
         print(
             f"{result.windows} windows: {len(result.new)} identified now ({done}), {result.kept} already in "
-            f"{result.path}; {result.wall_s:.1f} s on {summary['where']}; peak RSS per worker {rss:.0f} MB"
+            f"{result.path}; {result.wall_s:.1f} s{where}{memory}"
         )
         for row in result.new:
             if row.status == "failed":
