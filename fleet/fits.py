@@ -23,6 +23,8 @@ FITS_FILE = "fits.parquet"
 FITS_FORMAT = "axisflow.fleet.fits/1"
 OK, TOO_LITTLE_MOTION, FAILED = "ok", "too_little_motion", "failed"
 STATUSES = (OK, TOO_LITTLE_MOTION, FAILED)
+DEFAULT_HOLDOUT = 0.2
+"""the last fraction of each log a window's fit leaves out, for ``heldout_rms``"""
 FITTED = ("M_eq", "a1", "a2", "a3", "a4")
 """eq. (1)'s parameters, each a column with its ``_std`` beside it"""
 

@@ -32,12 +32,11 @@ from ..identification.signals import TimeWindow
 from ..model import AxisflowError, AxisParams, forward_friction, params_to_toml
 from ..model.energy import trace_energy_at
 from ..model.friction import FRICTION_PARAMETERS, friction_regressors
-from .fits import FAILED, FITTED, OK, TOO_LITTLE_MOTION, FitRow
+from .fits import DEFAULT_HOLDOUT, FAILED, FITTED, OK, TOO_LITTLE_MOTION, FitRow
 from .windows import MotionRule, Window
 
 COULOMB_SPEED_M_S = 0.2
 """the speed at which the Coulomb-like friction is trended [m/s]"""
-DEFAULT_HOLDOUT = 0.2
 
 
 @dataclass(frozen=True)

@@ -98,7 +98,7 @@ def _index(steps: argparse._SubParsersAction) -> None:
 
 
 def _identify(steps: argparse._SubParsersAction) -> None:
-    from ..fleet.window_fit import DEFAULT_HOLDOUT
+    from ..fleet.fits import DEFAULT_HOLDOUT
 
     p = steps.add_parser(
         "identify",
