@@ -26,6 +26,7 @@ LAYERS = (
     ("acquisition", "the data path (beside the planner)"),
     ("identification", "refits from recordings"),
     ("viz", "the views"),
+    ("fleet", "a fleet of axes over months, on Dask (beside the top floor)"),
     ("experiment", "the top floor: the paper's experiment and its records"),
     ("nodes", "the top floor: programs that talk to a bridge"),
     ("deploy", "the top floor: processes, cells, security"),

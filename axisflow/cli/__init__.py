@@ -40,6 +40,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "excite_cmd",
     "import_cmd",
     "identify_cmd",
+    "fleet_cmd",
     "planner_cmd",
     "adapt_cmd",
     "stop_cmd",

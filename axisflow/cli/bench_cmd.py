@@ -25,6 +25,7 @@ BENCHMARKS: dict[str, str] = {
     "planner": "planner",
     "identify": "identify",
     "identify-real": "identify_real",
+    "fleet": "fleet",
     "view": "view",
     "faults": "faults",
     "plant": "plant",

@@ -6,7 +6,7 @@ in the module of its command."""
 
 from __future__ import annotations
 
-from . import axis, deployment, files, foreign_logs, identification, logs, nodes, planning
+from . import axis, deployment, files, fleet, foreign_logs, identification, logs, nodes, planning
 from .case import Case
 
 CASES: list[Case] = [
@@ -18,5 +18,6 @@ CASES: list[Case] = [
     *deployment.CASES,
     *files.CASES,
     *foreign_logs.CASES,
+    *fleet.CASES,
 ]
 """every case, in the order the page lists them within a command"""

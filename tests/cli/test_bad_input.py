@@ -39,6 +39,7 @@ from axisflow.deploy.security import SecurityPlan, init_security
 from ..acquisition.logs.cell_log import write_cell_log
 from ..bad_input import CASES
 from ..bad_input.case import LOOPBACK
+from ..bad_input.fleet import write_fleet_inputs
 from ..bad_input.foreign_logs import write_foreign_logs
 from ..bad_input.page import REFUSALS_PAGE, refusals_page
 
@@ -103,6 +104,7 @@ def inputs(tmp_path_factory, damage) -> Path:
     _recording(d / "wrong-schema.mcap", schema=MOVE_TYPE)
     _recording(d / "nan-samples.mcap", nan=True)
     (d / "truncated.mcap").write_bytes((d / "still.mcap").read_bytes()[:40])  # magic and header only
+    write_fleet_inputs(d)
     init_security(SecurityPlan(d / "secure", days=2))
     (d / "still-link.mcap").symlink_to("still.mcap")
     (d / "still-link.rrd").symlink_to("still.mcap")

@@ -1,0 +1,136 @@
+"""The Dask job: windows identified on Dask distributed, a task per window, results into the fits table.
+
+The job runs on a client of :func:`~.cluster.fleet_client` (a LocalCluster of worker processes on
+127.0.0.1, or a running scheduler). :func:`identify_windows` submits one task per window not yet in
+the fits table: the task carries the window's description (paths and hashes, a few hundred bytes),
+the worker reads the logs and returns a row (:func:`~.window_fit.fit_window_row`). Rows are gathered
+as they complete, the progress is reported, and the table is written (atomically) every
+:data:`SAVE_EVERY_S` and at the end, so an interrupted run keeps what it finished. A task whose worker
+died is a ``failed`` row. With nothing new to do, :func:`identify_fleet` starts no cluster.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from .catalog import read_catalog
+from .cluster import CONNECT_TIMEOUT_S, DEFAULT_WORKERS, fleet_client
+from .fits import FAILED, FITS_FILE, FitRow, read_fits, write_fits
+from .window_fit import FitSettings, WindowResult, empty_row, fit_window_row
+from .windows import Window, WindowSpec, plan_windows
+
+SAVE_EVERY_S = 30.0
+"""how often a running job writes the rows it has [s]"""
+
+
+@dataclass(frozen=True)
+class Progress:
+    """How far a job is: windows done of all to do, by status, and the time since it started."""
+
+    done: int
+    total: int
+    by_status: dict[str, int]
+    elapsed_s: float
+
+    def line(self) -> str:
+        counts = ", ".join(f"{n} {s.replace('_', ' ')}" for s, n in sorted(self.by_status.items()))
+        left = ""
+        if 0 < self.done < self.total:
+            left = f", ~{self.elapsed_s / self.done * (self.total - self.done):.0f} s left"
+        return f"{self.done}/{self.total} windows ({counts}) in {self.elapsed_s:.0f} s{left}"
+
+
+@dataclass(frozen=True)
+class JobResult:
+    """What :func:`identify_windows` did: the new rows, the rows kept from before, the timing."""
+
+    new: tuple[FitRow, ...]
+    kept: int
+    """windows already in the fits table (same key), not done again"""
+    windows: int
+    wall_s: float
+    peak_rss_mb: dict[str, float]
+    """the largest peak RSS each worker reported [MB]"""
+    path: Path
+
+    @property
+    def rows(self) -> int:
+        return self.kept + len(self.new)
+
+
+def pending(windows: Sequence[Window], folder: Path, redo: bool = False) -> tuple[list[FitRow], list[Window]]:
+    """(the rows of ``folder``'s fits table that belong to ``windows``, the windows without a row)."""
+    previous = [] if redo else read_fits(folder, missing_ok=True)
+    keys = {w.key for w in windows}
+    done_keys = {r.key for r in previous}
+    return [r for r in previous if r.key in keys], [w for w in windows if w.key not in done_keys]
+
+
+def identify_windows(
+    client: Any,
+    windows: Sequence[Window],
+    settings: FitSettings,
+    folder: Path,
+    progress: Callable[[Progress], None] | None = None,
+    redo: bool = False,
+) -> JobResult:
+    """Identify the ``windows`` not yet in ``folder/fits.parquet`` on ``client``'s cluster (see the
+    module docstring); ``redo`` identifies all of them again."""
+    from distributed import as_completed
+
+    t0 = time.perf_counter()
+    kept, todo = pending(windows, folder, redo)
+    new: list[FitRow] = []
+    rss: dict[str, float] = {}
+    by_status: dict[str, int] = {}
+    futures = {
+        client.submit(fit_window_row, w, settings, key=f"fleet-window-{w.key}", pure=False): w for w in todo
+    }
+    saved = time.perf_counter()
+    for future in as_completed(futures):
+        window = futures[future]
+        try:
+            result: WindowResult = future.result()
+            row = result.row
+            rss[row.worker] = max(rss.get(row.worker, 0.0), result.peak_rss_mb)
+        except Exception as exc:
+            row = empty_row(window, FAILED, f"the task failed: {type(exc).__name__}: {exc}", 0.0)
+        new.append(row)
+        by_status[row.status] = by_status.get(row.status, 0) + 1
+        if progress is not None:
+            progress(Progress(len(new), len(todo), dict(by_status), time.perf_counter() - t0))
+        if time.perf_counter() - saved > SAVE_EVERY_S:
+            write_fits(folder, [*kept, *new])
+            saved = time.perf_counter()
+    path = write_fits(folder, [*kept, *new])
+    return JobResult(tuple(new), len(kept), len(windows), time.perf_counter() - t0, rss, path)
+
+
+def identify_fleet(
+    catalog: str | Path,
+    windows: WindowSpec,
+    settings: FitSettings,
+    workers: int = DEFAULT_WORKERS,
+    scheduler: str | None = None,
+    progress: Callable[[Progress], None] | None = None,
+    redo: bool = False,
+    timeout_s: float = CONNECT_TIMEOUT_S,
+) -> JobResult:
+    """``fleet identify``: the catalog's windows (:func:`~.windows.plan_windows`) identified on a
+    LocalCluster of ``workers`` or on ``scheduler``, into ``catalog/fits.parquet``."""
+    t0 = time.perf_counter()
+    folder = Path(catalog)
+    entries = read_catalog(folder)
+    planned = plan_windows(entries, windows, settings.method())
+    kept, todo = pending(planned, folder, redo)
+    if not todo:  # nothing new: no cluster to start, and the table is only rewritten if it shrinks
+        path = folder / FITS_FILE
+        if len(kept) != len(read_fits(folder, missing_ok=True)):
+            write_fits(folder, kept)
+        return JobResult((), len(kept), len(planned), time.perf_counter() - t0, {}, path)
+    with fleet_client(workers, scheduler, timeout_s) as client:
+        return identify_windows(client, planned, settings, folder, progress, redo)
