@@ -212,3 +212,19 @@ def axis_limits(params: AxisParams) -> BaselineLimits:
             f"force limit (tau_max = {params.tau_max:g} N·m); give --limits"
         )
     return BaselineLimits(v, top * (1.0 - _HAIR))
+
+
+def baseline_limits(
+    params_path: str | Path | None, limits_text: str | None
+) -> tuple[AxisParams, BaselineLimits]:
+    """The axis parameters of ``params_path`` and the baseline's limits, from ``limits_text``
+    (``V,A[,J]``, :func:`parse_limits`), else the file's ``[baseline]`` table, else the axis itself
+    (:func:`axis_limits`); refused when the axis cannot follow them (:func:`check_reachable`)."""
+    params, table = load_baseline_limits(params_path)
+    if limits_text is not None:
+        limits = parse_limits(limits_text)
+    elif table is not None:
+        limits = table
+    else:
+        return params, axis_limits(params)
+    return params, check_reachable(limits, params)
