@@ -3,7 +3,6 @@
 import json
 
 import pytest
-
 from axisflow.model import default_params, params_to_toml
 from ruckig import InputParameter, Ruckig, Trajectory
 
