@@ -22,6 +22,7 @@ FOLDERS = {
     "axisflow/security": "top",
     "axisflow/faults": "top",
     "axisflow/ros2": "top",
+    "axisflow/savings": "top",
     "axisflow": "top",
 }
 # what each layer may import (besides itself); the README's layout table says the same
