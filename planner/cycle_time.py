@@ -129,9 +129,11 @@ def _problems(moves: Moves, law: str, omega: float) -> list[MoveProblem]:
     ]
 
 
-def _total_time(moves: Moves, law: str, omega: float, params: AxisParams) -> float:
-    """ΣT_k(ω) from the bare exact solutions (no scoring)."""
-    return math.fsum(solve_exact(p, params).duration_s for p in _problems(moves, law, omega))
+def cycle_totals(moves: Moves, law: str, omega: float, params: AxisParams) -> tuple[float, float]:
+    """(ΣT_k [s], ΣE_k [J]) of the plans at ``omega`` from the bare exact solutions (no 1 kHz scoring):
+    a point of the law's Pareto front over the cycle."""
+    solutions = [solve_exact(p, params) for p in _problems(moves, law, omega)]
+    return math.fsum(s.duration_s for s in solutions), math.fsum(s.energy_j for s in solutions)
 
 
 def plan_at_omega(moves: Moves, law: str, omega: float, params: AxisParams) -> CyclePlan:
@@ -148,14 +150,14 @@ def match_cycle_time(moves: Moves, law: str, cycle_time_s: float, params: AxisPa
 
     t0 = time.perf_counter()
     steps = 0
-    if _total_time(moves, law, 1.0, params) > cycle_time_s:
+    if cycle_totals(moves, law, 1.0, params)[0] > cycle_time_s:
         status, omega = MatchStatus.TOO_SLOW, 1.0
-    elif _total_time(moves, law, 0.0, params) < cycle_time_s:
+    elif cycle_totals(moves, law, 0.0, params)[0] < cycle_time_s:
         status, omega = MatchStatus.TOO_FAST, 0.0
     else:
         status = MatchStatus.MATCHED
         omega, found = brentq(
-            lambda w: _total_time(moves, law, w, params) - cycle_time_s,
+            lambda w: cycle_totals(moves, law, w, params)[0] - cycle_time_s,
             0.0,
             1.0,
             xtol=_OMEGA_TOL,
