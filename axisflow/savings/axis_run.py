@@ -107,10 +107,7 @@ def run_on_axis(
             token = recorder_token(socket.gethostname(), recorder.pid)
             if not wait_for_token(session, token, READY_TIMEOUT_S):
                 raise AxisflowError(f"the recorder of {path} was ready, but its token {token} never came")
-            keys = AxisKeys()
-            with _Sender(session, keys, params, progress, stop) as sender:
-                for run in runs:
-                    sender.run(run)
+            send_runs(session, AxisKeys(), runs, params, progress, stop)
             end = children.stop(recorder)
             if end.returncode != 0:
                 raise AxisflowError(
@@ -119,6 +116,21 @@ def run_on_axis(
                 )
         children.stop(bridge)
     return AxisRun(path, plant, time.monotonic() - t0)
+
+
+def send_runs(
+    session: object,
+    keys: AxisKeys,
+    runs: Sequence[PlannedRun],
+    params: AxisParams,
+    progress: Callable[[str], None],
+    stop: threading.Event,
+) -> None:
+    """Send ``runs`` one after the other to the bridge of ``keys`` on ``session`` (a Zenoh session a
+    recorder listens on), each move after its plan record; return once every move has completed."""
+    with _Sender(session, keys, params, progress, stop) as sender:
+        for run in runs:
+            sender.run(run)
 
 
 class _Sender:

@@ -175,8 +175,10 @@ def plan_comparison(
     law: str,
     params: AxisParams,
     progress: Callable[[str], None] | None = None,
+    front: bool = True,
 ) -> Comparison:
-    """Plan the comparison of the module docstring for ``moves`` on ``params``."""
+    """Plan the comparison of the module docstring for ``moves`` on ``params`` (``front``: with the
+    law's Pareto front for the figure)."""
     say = progress or (lambda _line: None)
     polynomial_law(law)  # an unknown law is refused before any planning
     bases = {
@@ -207,7 +209,8 @@ def plan_comparison(
         f"  {law} at ω = {match.omega:.6f} ({match.status.value}, {match.iterations} steps): cycle time "
         f"{matched.cycle_time_s:.3f} s, E {matched.energy_j:.1f} J"
     )
-    front = tuple(FrontPoint(w, *cycle_totals(moves, law, w, params)) for w in DEFAULT_OMEGAS)
+    omegas = DEFAULT_OMEGAS if front else ()
+    points_of_front = tuple(FrontPoint(w, *cycle_totals(moves, law, w, params)) for w in omegas)
     points = {
         name: FrontPoint(
             math.nan, math.fsum(b.duration_s for b in plans), math.fsum(b.energy_j for b in plans)
@@ -220,7 +223,7 @@ def plan_comparison(
         law,
         (baseline, equal, matched),
         match.status,
-        front,
+        points_of_front,
         points,
     )
 

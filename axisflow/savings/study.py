@@ -15,15 +15,17 @@
 
 from __future__ import annotations
 
+import math
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..acquisition import AxisKeys
 from ..acquisition.drives.plant_profiles import DEFAULT_PROFILE
-from ..model import AxisflowError
+from ..model import AxisflowError, AxisParams
 from ..model.files import write_atomic
-from ..planner.baseline_limits import baseline_limits, check_law
+from ..planner.baseline_limits import axis_limits, baseline_limits, check_law
 from .comparison import Comparison, PlannedRun, plan_comparison
 from .cycle_moves import moves_of_file, moves_of_random, moves_of_recording
 from .report import (
@@ -177,4 +179,60 @@ def figure(report: SavingsReport, comparison: Comparison) -> bytes:
         report.baseline_points,
         points,
         f"{report.law} against a {report.baseline}: energy per cycle against cycle time",
+    )
+
+
+def compare_on_session(
+    session: object,
+    moves: Sequence[tuple[float, float]],
+    params: AxisParams,
+    progress: Callable[[str], None],
+    stop: threading.Event,
+    keys: AxisKeys | None = None,
+) -> Comparison:
+    """The comparison against a trapezoid at the axis's own limits (:func:`axis_limits`), planned on
+    ``params`` and run on the bridge of ``keys`` behind ``session``, whose recorder the caller runs (the
+    demo's closing phase; :func:`measured_savings` reads it back)."""
+    from .axis_run import send_runs
+
+    comparison = plan_comparison(moves, "trapezoid", axis_limits(params), DEFAULT_LAW, params, front=False)
+    send_runs(session, keys or AxisKeys(), comparison.runs, params, progress, stop)
+    return comparison
+
+
+def measured_savings(comparison: Comparison, recording: Path) -> dict[str, dict[str, float | None]]:
+    """Per run of axisflow's law: the energy saved against the baseline [%], on the model and as
+    measured from ``recording`` (None where a move was not measured)."""
+    from .measurement import measure
+
+    energy: dict[str, tuple[float, float | None]] = {}
+    for run in comparison.runs:
+        values = [m.energy_j for m in measure(recording, run.label).values()]
+        measured = None if None in values else math.fsum(v for v in values if v is not None)
+        energy[run.label] = (run.energy_j, measured)
+    base_model, base_meas = energy["baseline"]
+    out: dict[str, dict[str, float | None]] = {}
+    for label in ("equal-time", "matched-omega"):
+        model, meas = energy[label]
+        out[label] = {
+            "model_pct": (base_model - model) / base_model * 100.0,
+            "measured_pct": None if meas is None or not base_meas else (base_meas - meas) / base_meas * 100.0,
+        }
+    return out
+
+
+def saving_line(comparison: Comparison, savings: dict[str, dict[str, float | None]]) -> str:
+    """One line of :func:`measured_savings`: measured, the model's figure in brackets."""
+
+    def pct(label: str) -> str:
+        s = savings[label]
+        measured = "–" if s["measured_pct"] is None else f"{s['measured_pct']:.2f} %"
+        return f"{measured} ({s['model_pct']:.2f} %)"
+
+    base = comparison.run("baseline")
+    n = sum(1 for m in base.moves if not m.zero_move)
+    return (
+        f"energy saved against a {comparison.baseline_law} at equal cycle time ({n} moves, "
+        f"{base.cycle_time_s:.2f} s), measured (model): {comparison.law} move by move {pct('equal-time')}, "
+        f"at the matched ω {pct('matched-omega')}"
     )
