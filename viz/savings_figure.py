@@ -39,30 +39,50 @@ def savings_png(
 ) -> bytes:
     """The figure (see the module docstring) as PNG bytes; ``front`` is (cycle time, energy) per ω."""
     plt = pyplot()
-    fig, ax = plt.subplots(figsize=(10, 6.5))
+    fig, axes = plt.subplots(1, 2, figsize=(13, 6))
     pts = np.array(sorted(front))
-    ax.plot(pts[:, 0], pts[:, 1], "-", color="#1f77b4", lw=1.6, label=f"axisflow {law}: Pareto front over ω")
-    for i, (name, (t, e)) in enumerate(baselines.items()):
-        ax.plot([t], [e], "^", ms=10, color=f"C{i + 1}", label=f"{name} at its limits (model)")
-    for i, r in enumerate(runs):
-        colour = f"C{i + 3}"
-        marker = MARKERS.get(r.label, "o")
-        ax.plot([r.cycle_time_s], [r.energy_model_j], marker, ms=11, mfc="none", mec=colour, mew=1.8,
-                label=f"{r.label}: model")  # fmt: skip
-        if r.energy_measured_j is not None:
+    for ax in axes:
+        if pts.size:
             ax.plot(
-                [r.cycle_time_s],
-                [r.energy_measured_j],
-                marker,
-                ms=7,
-                color=colour,
-                label=f"{r.label}: measured",
+                pts[:, 0],
+                pts[:, 1],
+                "-",
+                color="#1f77b4",
+                lw=1.6,
+                label=f"axisflow {law}: Pareto front over ω",
             )
-    ax.set_xscale("log")
-    ax.set_xlabel("cycle time [s]")
-    ax.set_ylabel("energy per cycle [J]")
-    ax.set_title(title)
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8, loc="upper right")
+        for i, (name, (t, e)) in enumerate(baselines.items()):
+            ax.plot([t], [e], "^", ms=10, color=f"C{i + 1}", label=f"{name} at its limits (model)")
+        for i, r in enumerate(runs):
+            colour = f"C{i + 3}"
+            marker = MARKERS.get(r.label, "o")
+            ax.plot([r.cycle_time_s], [r.energy_model_j], marker, ms=11, mfc="none", mec=colour, mew=1.8,
+                    label=f"{r.label}: model")  # fmt: skip
+            if r.energy_measured_j is not None:
+                ax.plot(
+                    [r.cycle_time_s],
+                    [r.energy_measured_j],
+                    marker,
+                    ms=7,
+                    color=colour,
+                    label=f"{r.label}: measured",
+                )
+        ax.set_xlabel("cycle time [s]")
+        ax.set_ylabel("energy per cycle [J]")
+        ax.grid(True, which="both", alpha=0.3)
+    full, zoom = axes
+    full.set_xscale("log")
+    full.set_title("the whole front (ω from 0 to 1)")
+    # the zoom: around the runs and the baselines, where the savings are
+    times = [r.cycle_time_s for r in runs] + [t for t, _e in baselines.values()]
+    energies = [r.energy_model_j for r in runs] + [e for _t, e in baselines.values()]
+    energies += [r.energy_measured_j for r in runs if r.energy_measured_j is not None]
+    t_lo, t_hi = min(times), max(times)
+    e_lo, e_hi = min(energies), max(energies)
+    zoom.set_xlim(t_lo - 0.25 * (t_hi - t_lo + 0.1 * t_lo), t_hi + 0.25 * (t_hi - t_lo + 0.1 * t_lo))
+    zoom.set_ylim(e_lo - 0.4 * (e_hi - e_lo + 0.01 * e_lo), e_hi + 0.4 * (e_hi - e_lo + 0.01 * e_lo))
+    zoom.set_title("near the baselines")
+    zoom.legend(fontsize=8, loc="upper right")
+    fig.suptitle(title)
     fig.tight_layout()
     return png_bytes(fig)
