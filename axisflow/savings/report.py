@@ -300,6 +300,11 @@ def markdown(report: SavingsReport) -> str:
         "",
         "Peak and RMS torque and peak power are measured where the run was measured, else the model's.",
     ]
+    if report.match_status != "matched":
+        lines.append(
+            f"The matched ω is {report.match_status}: axisflow's {report.law} cannot meet the baseline's "
+            "cycle time in total (too-slow: even ω = 1 takes longer; its row shows that fastest plan)."
+        )
     slow = report.run("equal-time").slower_moves
     if slow:
         lines.append(
