@@ -69,7 +69,10 @@ def move_energy(move: Move, params: AxisParams, accounting: EnergyAccounting | N
 
 
 def motion_energy(
-    motion: Motion, params: AxisParams, breaks_s: Sequence[float], accounting: EnergyAccounting | None = None
+    motion: Motion,
+    params: AxisParams,
+    breaks_s: Sequence[float] | np.ndarray,
+    accounting: EnergyAccounting | None = None,
 ) -> float:
     """Mechanical energy [J] of any rest-to-rest motion whose kinematics are smooth between
     consecutive ``breaks_s`` (the times [s] where a phase ends: a trapezoid's ramp and cruise, an
