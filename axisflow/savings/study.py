@@ -26,6 +26,7 @@ from ..acquisition.drives.plant_profiles import DEFAULT_PROFILE
 from ..model import AxisflowError, AxisParams
 from ..model.files import write_atomic
 from ..planner.baseline_limits import axis_limits, baseline_limits, check_law
+from ..planner.cycle_time import match_cycle_time
 from .comparison import Comparison, PlannedRun, plan_comparison
 from .cycle_moves import moves_of_file, moves_of_random, moves_of_recording
 from .report import (
@@ -236,3 +237,26 @@ def saving_line(comparison: Comparison, savings: dict[str, dict[str, float | Non
         f"{base.cycle_time_s:.2f} s), measured (model): {comparison.law} move by move {pct('equal-time')}, "
         f"at the matched ω {pct('matched-omega')}"
     )
+
+
+def equal_time_saving(
+    moves: Sequence[tuple[float, float]], law: str, durations_s: Sequence[float], accurate: AxisParams
+) -> dict[str, float | str]:
+    """What an accurate model saves against plans made with a stale one, at equal cycle time, both
+    judged by the accurate model: the stale plans' moves at their ``durations_s`` along ``law``, against
+    the accurate model's plans at the ω that matches their cycle time
+    (:func:`~axisflow.planner.cycle_time.match_cycle_time`)."""
+    from ..planner.cycle_time import plan_at_durations
+
+    stale = plan_at_durations(moves, law, durations_s, accurate)
+    match = match_cycle_time(moves, law, stale.total_time_s, accurate)
+    e_stale, e_new = stale.total_energy_j, match.plan.total_energy_j
+    return {
+        "law": law,
+        "cycle_time_s": stale.total_time_s,
+        "omega": match.omega,
+        "match_status": match.status.value,
+        "energy_stale_j": e_stale,
+        "energy_accurate_j": e_new,
+        "saving_pct": (e_stale - e_new) / e_stale * 100.0 if e_stale else 0.0,
+    }
