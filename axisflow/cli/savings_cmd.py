@@ -16,8 +16,12 @@ OUTPUTS = ("savings.json", "savings.md", "savings.png", "savings.mcap")
 def register(sub: argparse._SubParsersAction) -> None:
     from ..acquisition.drives.plant_profiles import DEFAULT_PROFILE, PROFILE_RESOURCES
     from ..planner.baseline_limits import BASELINE_LAWS
-    from ..savings.report import DEFAULT_DAYS_PER_YEAR, DEFAULT_HOURS_PER_DAY, DEFAULT_PRICE_PER_KWH
-    from ..savings.study import DEFAULT_LAW
+    from ..savings.settings import (
+        DEFAULT_DAYS_PER_YEAR,
+        DEFAULT_HOURS_PER_DAY,
+        DEFAULT_LAW,
+        DEFAULT_PRICE_PER_KWH,
+    )
 
     p = sub.add_parser(
         "savings",
@@ -95,7 +99,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ..model.files import check_output_files
-    from ..savings.study import SavingsSettings, run_savings
+    from ..savings.settings import SavingsSettings
+    from ..savings.study import run_savings
 
     inputs = [s for s in (args.recording, args.waypoints) if s is not None]
     if args.recording is not None:

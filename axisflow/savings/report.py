@@ -32,12 +32,6 @@ from ..model import AxisflowError
 from ..model.files import write_atomic
 
 J_PER_KWH = 3.6e6
-DEFAULT_HOURS_PER_DAY = 16.0
-"""when no ``--cycles-per-day`` is given: the baseline's cycle back to back for two shifts"""
-DEFAULT_DAYS_PER_YEAR = 250.0
-"""working days a year (five days a week, fifty weeks)"""
-DEFAULT_PRICE_PER_KWH = 0.20
-"""the price of a kWh when none is given (in whatever currency the price is read in)"""
 ASSUMPTIONS: tuple[str, ...] = (
     "energy is mechanical: ∫ g(τ_m·ω_m) dt at the motor shaft; the motor's and the drive's efficiency "
     "(copper, iron and switching losses) are not modelled: the RMS torque shows the copper losses' trend",
