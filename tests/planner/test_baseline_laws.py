@@ -88,7 +88,7 @@ def test_friction_energy_matches_the_closed_form(law, accounting):
     """Coulomb and viscous friction only: E = a1·D + a2·∫ẋ² dt (friction power is never negative)."""
     p = default_params().replace(m=1e-3, J_m=1e-8, J_g=0.0, J_p=1e-8, a1=37.0, a2=81.0, a3=0.0)
     m = baseline_move(law, 0.1, 0.65, BaselineLimits(0.9, 2.0, 15.0), duration_s=1.3)
-    t = np.linspace(0.0, m.duration_s, 400001)
+    t = np.linspace(0.0, m.duration_s, 100001)
     v2 = np.trapezoid(m.sample(t).velocity_m_s ** 2, t)
     expected = 37.0 * 0.55 + 81.0 * v2
     assert motion_energy(m, p, m.breaks_s, accounting) == pytest.approx(expected, rel=1e-8)
