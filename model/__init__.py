@@ -27,7 +27,7 @@ if TYPE_CHECKING:  # what a type checker sees; at run time __getattr__ loads eac
         motor_speed,
         motor_torque,
     )
-    from .energy import count_power, move_energy, trace_energy, trace_energy_at  # noqa: F401
+    from .energy import count_power, motion_energy, move_energy, trace_energy, trace_energy_at  # noqa: F401
     from .errors import AxisflowError, AxisflowWarning, MoveError, ParameterError  # noqa: F401
     from .friction import (  # noqa: F401
         FRICTION_PARAMETERS,
@@ -76,6 +76,7 @@ _HOMES: dict[str, str] = {
     "motor_speed": "dynamics",
     "motor_torque": "dynamics",
     "count_power": "energy",
+    "motion_energy": "energy",
     "move_energy": "energy",
     "trace_energy": "energy",
     "trace_energy_at": "energy",

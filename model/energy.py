@@ -13,12 +13,13 @@ quadrature, accurate to ~1e-12 relative.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from itertools import pairwise
 
 import numpy as np
 
-from .dynamics import cart_force
-from .motion_laws import Move
+from .dynamics import cart_force, mechanical_power
+from .motion_laws import Motion, Move
 from .params import AxisParams, EnergyAccounting
 
 _GL_NODES, _GL_WEIGHTS = np.polynomial.legendre.leggauss(32)
@@ -64,7 +65,39 @@ def move_energy(move: Move, params: AxisParams, accounting: EnergyAccounting | N
     acc = params.energy_accounting if accounting is None else EnergyAccounting(accounting)
     if move.distance_m == 0.0:
         return 0.0
-    power = _power_of_u(move, params)
+    return _accounted_integral(_power_of_u(move, params), acc) * move.duration_s
+
+
+def motion_energy(
+    motion: Motion,
+    params: AxisParams,
+    breaks_s: Sequence[float] | np.ndarray,
+    accounting: EnergyAccounting | None = None,
+) -> float:
+    """Mechanical energy [J] of any rest-to-rest motion whose kinematics are smooth between
+    consecutive ``breaks_s`` (the times [s] where a phase ends: a trapezoid's ramp and cruise, an
+    S-curve's seven phases; the first 0, the last the duration), under ``accounting`` (default: the
+    parameters' own).
+
+    Each piece is integrated as :func:`move_energy` integrates a polynomial move, P = F·ẋ by eq. (1)
+    from the motion's own velocity and acceleration, its sign changes located, so an acceleration that
+    jumps at a break (a trapezoid's) costs nothing in accuracy."""
+    acc = params.energy_accounting if accounting is None else EnergyAccounting(accounting)
+    total = 0.0
+    for lo, hi in pairwise(float(t) for t in breaks_s):
+        if hi <= lo:
+            continue
+
+        def power(u: np.ndarray, lo: float = lo, hi: float = hi) -> np.ndarray:
+            s = motion.sample(lo + (hi - lo) * np.asarray(u, dtype=float))
+            return mechanical_power(s.velocity_m_s, s.acceleration_m_s2, params)
+
+        total += _accounted_integral(power, acc) * (hi - lo)
+    return total
+
+
+def _accounted_integral(power, acc: EnergyAccounting) -> float:  # noqa: ANN001 - ndarray -> ndarray
+    """∫₀¹ g(P(u)) du of a power P(u) that is smooth on [0, 1]."""
     # sign changes of P(u) split [0, 1] into pieces where g is smooth; the scan is dense next to the
     # ends too, where a short braking lobe (poly3 ends with ẍ ≠ 0 while ẋ → 0) would hide between
     # two evenly spaced samples. The end points themselves (ẋ = 0, P = 0) are left out; an interior
@@ -89,7 +122,7 @@ def move_energy(move: Move, params: AxisParams, accounting: EnergyAccounting | N
         elif acc is EnergyAccounting.ABSOLUTE:
             piece = abs(piece)
         total += piece
-    return total * move.duration_s
+    return total
 
 
 def trace_energy(

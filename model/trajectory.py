@@ -110,6 +110,9 @@ class SampledTrajectory:
         acc = (2 * c2 + s * (6 * c3 + s * (12 * c4 + s * 20 * c5))) / h**2
         jerk = (6 * c3 + s * (24 * c4 + s * 60 * c5)) / h**3
         inside = (t >= 0.0) & (t <= self.duration_s)
+        # from the end on, the last knot itself: the last piece's sum at s = 1 may miss it by an ulp,
+        # and a path that ends on the stroke's end would then leave the stroke
+        pos = np.where(t >= self.duration_s, self.position_m[-1], pos)
         return MoveSamples(
             t, pos, np.where(inside, vel, 0.0), np.where(inside, acc, 0.0), np.where(inside, jerk, 0.0)
         )

@@ -11,7 +11,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 
 # package folder → its layer. The floors below the top one (model … viz) are the library; the top
-# floor, axisflow/, is rooms of their own, in order: experiment < nodes < deploy < demo, then the
+# floor, axisflow/, is rooms of their own, in order: experiment < nodes < deploy < savings < demo, then the
 # benchmarks and the command line. A folder of axisflow/ missing here fails
 # test_every_room_of_the_top_floor_has_its_place.
 FOLDERS = {
@@ -25,6 +25,7 @@ FOLDERS = {
     "axisflow/experiment": "experiment",
     "axisflow/nodes": "nodes",
     "axisflow/deploy": "deploy",
+    "axisflow/savings": "savings",
     "axisflow/demo": "demo",
     "axisflow/cli": "cli",
     "axisflow": "loose",
@@ -44,10 +45,12 @@ ALLOWED = {
     "experiment": FLOORS,
     "nodes": FLOORS | {"experiment"},
     "deploy": FLOORS | {"experiment", "nodes"},
-    "demo": FLOORS | {"experiment", "nodes", "deploy"},
+    "savings": FLOORS | {"experiment", "nodes", "deploy"},
+    "demo": FLOORS | {"experiment", "nodes", "deploy", "savings"},
     "arguments": FLOORS | {"experiment"},
-    "benchmarks": FLOORS | {"fleet", "experiment", "nodes", "deploy", "demo", "arguments"},
-    "cli": FLOORS | {"fleet", "experiment", "nodes", "deploy", "demo", "arguments", "benchmarks", "package"},
+    "benchmarks": FLOORS | {"fleet", "experiment", "nodes", "deploy", "savings", "demo", "arguments"},
+    "cli": FLOORS
+    | {"fleet", "experiment", "nodes", "deploy", "savings", "demo", "arguments", "benchmarks", "package"},
     "package": set(),
 }
 # the sub-package a dotted name under axisflow belongs to
@@ -62,6 +65,7 @@ SUBPACKAGES = {
     "experiment": "experiment",
     "nodes": "nodes",
     "deploy": "deploy",
+    "savings": "savings",
     "demo": "demo",
     "cli": "cli",
     "arguments": "arguments",

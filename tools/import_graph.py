@@ -30,6 +30,7 @@ LAYERS = (
     ("experiment", "the top floor: the paper's experiment and its records"),
     ("nodes", "the top floor: programs that talk to a bridge"),
     ("deploy", "the top floor: processes, cells, security"),
+    ("savings", "the top floor: what a user saves against the profiles drives run today"),
     ("demo", "the top floor: the demo and the adaptation experiment"),
     (
         "axisflow",

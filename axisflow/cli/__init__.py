@@ -33,6 +33,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "plan_cmd",
     "experiment_cmd",
     "pareto_cmd",
+    "savings_cmd",
     "bench_cmd",
     "bridge_cmd",
     "drive_sim_cmd",

@@ -154,6 +154,8 @@ def run(args: argparse.Namespace) -> int:
     phases = ", ".join(f"{name} {seconds:.1f} s" for name, seconds in report.phases_s.items())
     print(f"phases: {phases} (demo.json has them)")
     print(f"demo finished in {report.wall_time_s:.0f} s; everything is in {report.out}/")
+    if report.savings_line:
+        print(report.savings_line)
     return 0
 
 

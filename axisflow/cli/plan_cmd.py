@@ -13,7 +13,9 @@ from ..arguments import (
     finite_float,
     params_from_args,
 )
+from ..model import MoveError
 from ..planner import DEFAULT_OMEGA, REFERENCE_LAWS, Case, MoveProblem
+from ..planner.baseline_limits import BASELINE_LAWS
 
 POLY_LAWS = ("poly3", "poly5", "poly7")
 
@@ -25,16 +27,28 @@ def register(sub: argparse._SubParsersAction) -> None:
         description="Plan the duration of one rest-to-rest move x0 → x1 [m]. The polynomial laws are "
         "planned by the chosen solver; the reference laws show the physical limit: 'bang' is the "
         "time-optimal bang–cruise–bang move (min-time only), 'least-energy' the least-energy "
-        "limit-respecting profile (full-force ramps, cruise, coast, braking).",
+        "limit-respecting profile (full-force ramps, cruise, coast, braking). The baseline laws are what "
+        "drives run today, computed by Ruckig under --limits: 'trapezoid' (CiA 402 profile position "
+        "mode) and 'scurve' (time-optimal under velocity, acceleration and jerk limits); --t-min "
+        "stretches them to that duration.",
     )
     p.add_argument("x0", type=finite_float, help="start position [m], in [0, L]")
     p.add_argument("x1", type=finite_float, help="end position [m], in [0, L]")
     p.add_argument(
         "--law",
-        choices=POLY_LAWS + REFERENCE_LAWS,
+        choices=POLY_LAWS + REFERENCE_LAWS + BASELINE_LAWS,
         default="poly5",
         help="motion law: a rest-to-rest polynomial, or a reference law of the physical limit (bang: "
-        "bang–cruise–bang minimum time; least-energy: the least-energy profile) (default: poly5)",
+        "bang–cruise–bang minimum time; least-energy: the least-energy profile), or a baseline "
+        "(trapezoid, scurve) (default: poly5)",
+    )
+    p.add_argument(
+        "--limits",
+        metavar="V,A[,J]",
+        default=None,
+        help="the baseline's velocity [m/s], acceleration [m/s²] and jerk [m/s³] limits (default: the "
+        "[baseline] table of --params, else v_max and the acceleration the torque limit gives there; "
+        "the S-curve's jerk defaults to a/0.1 s)",
     )
     p.add_argument(
         "--case",
@@ -95,7 +109,24 @@ def _reference(args: argparse.Namespace, problem: MoveProblem) -> dict[str, Any]
     }
 
 
+def _baseline(args: argparse.Namespace) -> dict[str, Any]:
+    from ..planner.baseline_laws import plan_baseline
+    from ..planner.baseline_limits import baseline_limits
+
+    params, limits = baseline_limits(args.params, args.limits)
+    plan = plan_baseline(args.law, args.x0, args.x1, limits, params, args.t_min)
+    return {"x0_m": args.x0, "x1_m": args.x1, "law": args.law, "case": Case.MIN_TIME.value, "omega": None} | (
+        plan.to_dict()
+    )
+
+
 def run(args: argparse.Namespace) -> int:
+    if args.law in BASELINE_LAWS:
+        return _print(args, _baseline(args))
+    if args.limits is not None:
+        raise MoveError(
+            f"--limits belongs to the baseline laws ({', '.join(BASELINE_LAWS)}), not to {args.law}"
+        )
     params = params_from_args(args)
     law = args.law if args.law in POLY_LAWS else "poly5"  # MoveProblem validates bounds and ω
     problem = MoveProblem(
@@ -126,6 +157,10 @@ def run(args: argparse.Namespace) -> int:
             "message": r.message,
             "certificate": r.certificate.to_dict() if r.certificate is not None else {},
         }
+    return _print(args, out)
+
+
+def _print(args: argparse.Namespace, out: dict[str, Any]) -> int:
     if args.json:
         print(json.dumps(out))
     else:

@@ -234,6 +234,7 @@ def run_adaptation(
             raise AxisflowError(f"the recorder exited with {end.returncode}: see {out / 'logs'}")
     t0 = time.monotonic()
     results = _results(recording, out, settings.minutes)
+    results["equal_time"] = _equal_time(recording, waypoints, nominal, out)
     for way in WAYS:
         late = [k for r in reports[way] for k in r.late_moves]
         results["ways"][way]["late_moves"] = len(late)
@@ -422,6 +423,35 @@ def _energy_pass(moves: list[Any]) -> dict[str, Any]:
     }
 
 
+def _equal_time(recording: Path, waypoints: Any, nominal: Any, out: Path) -> dict[str, Any]:
+    """The energy the accurate model (the adaptive node's last accepted set) saves against the stale
+    one-time refit at equal cycle time: the refit's last pass (its poly5 durations) against the accurate
+    model's plans at the ω that matches its cycle time, both judged by the accurate model."""
+    from ..acquisition.logs.reader import read_messages
+    from ..acquisition.wire.keys import AxisKeys, topic_for_key
+    from ..acquisition.wire.params_estimate import PARAMS_ESTIMATE_TYPE, ParamsEstimate
+    from ..experiment.per_move import read_move_energies
+    from ..savings.cycle_moves import moves_of_waypoints
+    from ..savings.study import equal_time_saving
+
+    records = [
+        ParamsEstimate.decode(m.data)
+        for m in read_messages(recording, topic_for_key(AxisKeys("adapt").params), PARAMS_ESTIMATE_TYPE)
+    ]
+    last = max((r for r in records if r.accepted and r.version > 0), key=lambda r: r.version, default=None)
+    if last is None:
+        return {"saving_pct": None, "why": "no accepted parameter set"}
+    stale = [m for m in read_move_energies(out / "moves-refit.json") if m.case == "min-time-energy"]
+    durations = {m.waypoint_index: m.duration_s for m in stale}
+    moves = moves_of_waypoints(waypoints)
+    if sorted(durations) != list(range(1, len(moves) + 1)):
+        return {"saving_pct": None, "why": "the refit's last pass is incomplete"}
+    got = equal_time_saving(
+        moves, "poly5", [durations[k] for k in range(1, len(moves) + 1)], last.applied_to(nominal)
+    )
+    return got | {"accurate_version": last.version}
+
+
 def _decisions(recording: Path) -> dict[str, Any]:
     from ..acquisition.logs.reader import read_messages
     from ..acquisition.wire.keys import AxisKeys, topic_for_key
@@ -498,6 +528,15 @@ def adaptation_markdown(results: dict[str, Any], settings: AdaptationSettings) -
             "",
             "moves that started after the move before had ended (this process held back on a busy machine: "
             "the axis idled): " + ", ".join(f"{w} {n}" for w, n in late.items()) + ".",
+        ]
+    eq = results.get("equal_time", {})
+    if eq.get("saving_pct") is not None:
+        lines += [
+            "",
+            f"at equal cycle time ({eq['cycle_time_s']:.1f} s, the refit's last pass), judged by the adapted "
+            f"model (version {eq['accurate_version']}): the refit's plans {eq['energy_stale_j']:.2f} J, the "
+            f"adapted model's at ω = {eq['omega']:.4f} {eq['energy_accurate_j']:.2f} J: "
+            f"{eq['saving_pct']:.3f} % saved.",
         ]
     d = ways["adapt"]["decisions"]
     g = results["goals"]

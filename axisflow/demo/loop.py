@@ -52,6 +52,9 @@ from ..model.files import write_atomic
 from ..planner import DEFAULT_OMEGA, make_backend
 from .settings import DemoSettings
 
+SAVINGS_WAYPOINTS = 6
+"""way points of the demo's closing comparison with a trapezoid (the first of the experiment's)"""
+
 
 @dataclass
 class DemoReport:
@@ -62,6 +65,9 @@ class DemoReport:
     """the simulated axis's plant, as its bridge described it"""
     wall_time_s: float = 0.0
     phases_s: dict[str, float] = field(default_factory=dict)
+    savings: dict = field(default_factory=dict)
+    """the saving against a trapezoid at equal cycle time, per run of axisflow's law, model and measured"""
+    savings_line: str = ""
 
 
 def run_demo(
@@ -135,6 +141,20 @@ def run_demo(
                 report.tables[label] = _table(out, path, label)
                 report.phases_s[f"table2-{label}"] = time.monotonic() - t0
                 _check_stop(stop)
+            # 5. the saving against a trapezoid at equal cycle time, on a few of the way points
+            t0 = time.monotonic()
+            from ..savings.cycle_moves import moves_of_waypoints
+            from ..savings.study import compare_on_session, measured_savings, saving_line
+
+            moves = moves_of_waypoints(waypoints[:SAVINGS_WAYPOINTS])
+            with _recording(children, session, out / "savings.mcap", endpoint):
+                progress(
+                    f"savings: {len(moves)} moves against a trapezoid at equal cycle time, refit parameters"
+                )
+                comparison = compare_on_session(session, moves, refit, progress, stop)  # type: ignore[arg-type]
+            report.savings = measured_savings(comparison, out / "savings.mcap")
+            report.savings_line = saving_line(comparison, report.savings)
+            report.phases_s["savings"] = time.monotonic() - t0
         t0 = time.monotonic()
         children.stop(bridge)
         report.phases_s["bridge-stop"] = time.monotonic() - t0
@@ -238,6 +258,8 @@ def _summary_json(report: DemoReport, settings: DemoSettings) -> dict:
         "drive": settings.drive,
         "solver": settings.solver,
         "wall_time_s": report.wall_time_s,
+        "savings": report.savings,
+        "savings_line": report.savings_line,
         "phases_s": report.phases_s,
         "energy_error_pct": {
             label: {f"{r.case.value} {r.law}": r.energy_error_pct for r in table.rows}

@@ -6,11 +6,12 @@ in the module of its command."""
 
 from __future__ import annotations
 
-from . import axis, deployment, files, fleet, foreign_logs, identification, logs, nodes, planning
+from . import axis, deployment, files, fleet, foreign_logs, identification, logs, nodes, planning, savings
 from .case import Case
 
 CASES: list[Case] = [
     *planning.CASES,
+    *savings.CASES,
     *axis.CASES,
     *identification.CASES,
     *nodes.CASES,

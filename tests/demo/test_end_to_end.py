@@ -95,12 +95,18 @@ def test_the_demo_closes_the_loop(tmp_path, demo):
     assert "Table 2, nominal parameters" in done.stdout and "Table 2, refit parameters" in done.stdout
     summary = json.loads((out / "demo.json").read_text())
     assert summary["idle_ticks"] == {"nominal": 0, "refit": 0}
+    # it ends with the saving against a trapezoid at equal cycle time, measured beside the model's
+    assert done.stdout.strip().splitlines()[-1] == summary["savings_line"]
+    for run in ("equal-time", "matched-omega"):
+        saved = summary["savings"][run]
+        assert saved["measured_pct"] > 0.0
+        assert saved["measured_pct"] == pytest.approx(saved["model_pct"], abs=0.5)  # refit: model ≈ axis
     for row, error in summary["energy_error_pct"]["refit"].items():
         assert abs(error) < 1.0, row  # the refit brings E_th and E_exp together ...
         assert abs(summary["energy_error_pct"]["nominal"][row]) > 3 * abs(error)  # ... the nominal does not
     written = ("excitation.mcap", "experiment-nominal.mcap", "experiment-refit.mcap", "table2-refit.json",
                "table2-nominal.md", "refit/params.toml", "refit/fit.png", "session.rrd", "figures/fig2.png",
-               "figures/fig4a.png", "figures/fig4b.png", "figures/fig5a.png")  # fmt: skip
+               "figures/fig4a.png", "figures/fig4b.png", "figures/fig5a.png", "savings.mcap")  # fmt: skip
     for name in written:
         assert (out / name).is_file(), name
     window = json.loads((out / "refit" / "report.json").read_text())["log"]["window"]

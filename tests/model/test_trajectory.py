@@ -27,6 +27,18 @@ def test_pieces_match_position_velocity_and_acceleration_at_both_knots():
     assert before.velocity_m_s == pytest.approx(v[1:-1], abs=1e-6)
 
 
+def test_the_end_sample_is_the_last_knot_exactly():
+    """A path that ends on the stroke's end stays on it: its last piece's sum at s = 1 missed 0.0 by
+    -6e-28 m (a 1 µs piece near the end), and the bridge refused the move as leaving the stroke."""
+    t = np.array([0.0, 1.02674964, 1.02675064])
+    x = np.array([0.8, 5.06428233e-13, 0.0])
+    v = np.array([0.0, -1.52000878e-06, 0.0])
+    a = np.array([0.0, -3.04002927, 0.0])
+    traj = SampledTrajectory(t, x, v, a)
+    end = traj.sample(np.array([traj.duration_s, traj.duration_s + 1.0]))
+    assert list(end.position_m) == [0.0, 0.0]
+
+
 def test_derivatives_are_those_of_the_position():
     traj = SampledTrajectory(*_random(seed=2))
     t = np.linspace(0.001, traj.duration_s - 0.001, 997)
