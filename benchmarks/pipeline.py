@@ -39,6 +39,9 @@ from axisflow.processes import Child, Launcher, cpu_seconds, free_port, thread_c
 
 PUBLISHER_ENTRY = "axisflow.benchmarks.pipeline:publisher_main"
 """the publisher process: ``PORT AXES SECONDS SPEED``"""
+PUBLISHER_CONFIRM_S = 30.0
+"""how long the publisher waits for its receipts before it closes its session [s]: a recorder that
+was starved may need a while to take its backlog, and the tail it has not taken is lost at the close"""
 RAW_SUBSCRIBER_ENTRY = "axisflow.benchmarks.pipeline:raw_subscriber_main"
 """the reference subscriber process of the flood: ``PORT MESSAGES``"""
 DEFAULT_AXES = "8,16,32,48,64,96,128,192,256"
@@ -132,9 +135,18 @@ def play(pubs: list, templates: list[bytearray], n_ticks: int, paced: bool) -> t
 
 
 def publisher_main() -> None:
-    """Entry of the publisher process: ``PORT AXES SECONDS SPEED``; prints one JSON line."""
+    """Entry of the publisher process: ``PORT AXES SECONDS SPEED``; prints one JSON line. Says it is done
+    putting (the launcher's ready byte, when started with ``ready=True``), then waits for the receipts
+    of the joined subscribers, which learn its last sequence numbers from them."""
     from axisflow.acquisition import AxisKeys, ZenohOptions, open_session
-    from axisflow.acquisition.bus.publisher import SequencedPublisher, Traffic, wait_for_subscribers
+    from axisflow.acquisition.bus.publisher import (
+        SequencedPublisher,
+        Traffic,
+        confirm_delivered,
+        wait_for_subscribers,
+    )
+
+    from axisflow.processes import notify_ready
 
     port, n_axes, seconds, speed = int(sys.argv[1]), int(sys.argv[2]), float(sys.argv[3]), float(sys.argv[4])
     traffic = Traffic.TELEMETRY if speed > 0 else Traffic.BULK
@@ -149,6 +161,8 @@ def publisher_main() -> None:
         cpu0 = time.process_time()
         wall, late = play(pubs, templates, n_ticks, paced=speed > 0)
         cpu_s = time.process_time() - cpu0
+        notify_ready()
+        confirmed = confirm_delivered(session, pubs, PUBLISHER_CONFIRM_S)
         for pub in pubs:
             pub.undeclare()
     print(
@@ -160,6 +174,7 @@ def publisher_main() -> None:
                 "wall_s": wall,
                 "late_ticks": late,
                 "cpu_s": cpu_s,
+                "confirmed": confirmed,
             }
         )
     )
