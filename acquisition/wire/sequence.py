@@ -106,11 +106,11 @@ class SequenceTracker:
     def said(self, publisher: bytes, last: int) -> None:
         """The publisher says it had sent every number up to ``last``: those after the last one
         received are missed (the tail). Call it once the stream has ended (its last messages may
-        still be on the way when it says so)."""
+        still be on the way when it says so). A publisher neither received nor expected is left out:
+        where its due began is not known (it may have sent all it said before the receiver came)."""
         seen = self.publishers.get(publisher)
-        if seen is None:  # none arrived, and the receiver did not know it when it joined: owed from 1
-            seen = self.publishers[publisher] = PublisherSequence(1, 0, messages=0)
-        seen.said = max(seen.said, last)
+        if seen is not None:
+            seen.said = max(seen.said, last)
 
     @property
     def missed(self) -> int:

@@ -78,12 +78,13 @@ def test_the_last_number_a_publisher_said_counts_the_tail_no_gap_shows():
     assert (t.gaps, t.missed, t.untold) == (1, 5, 0)
 
 
-def test_a_publisher_that_said_its_number_and_got_nothing_through_owes_all_it_sent():
+def test_a_publisher_expected_at_the_join_that_got_nothing_through_owes_all_it_said_after_it():
     t = SequenceTracker()
-    t.said(A, 40)  # unknown when the receiver joined: owed from its first number
+    t.said(A, 40)  # neither received nor expected: where its due began is not known
     t.expect(B, 101)  # it had sent 100 when the receiver joined
     t.said(B, 130)
-    assert (t.publishers[A].missed, t.publishers[B].missed, t.messages, t.missed) == (40, 30, 0, 70)
+    assert A not in t.publishers
+    assert (t.publishers[B].missed, t.messages, t.missed, t.untold) == (30, 0, 30, 0)
 
 
 def test_the_number_a_publisher_had_at_the_join_counts_the_head_no_gap_shows():
