@@ -70,7 +70,7 @@ from ..bus.publisher import (
 from ..bus.readiness import MatchWatch, NotReadyError, say_hello
 from ..drives.drive import STOPPING_EVENTS, Drive, DriveEvent, DriveEventKind
 from ..errors import AcquisitionError, AxisTakenError, WireError, zenoh_reason
-from ..histogram import DurationHistogram, DurationStats
+from ..histogram import DurationStats
 from ..wire.attachment import unpack_attachment
 from ..wire.axis_sample_encoder import AxisSampleEncoder
 from ..wire.drive_info import DRIVE_INFO_TYPE, DriveInfo
@@ -81,6 +81,7 @@ from ..wire.move_status import MOVE_STATUS_TYPE, NO_TICK, MoveState, MoveStatus
 from ..wire.quick_stop import STOP_MOVE_ID, QuickStop
 from .move_intake import MoveIntake, ReceivedMove
 from .move_queue import DEFAULT_JUMP_TOLERANCE_M, MoveQueue, QueuedMove, validate_move
+from .tick_clock import TickClock, TickTiming
 
 log = logging.getLogger(__name__)
 
@@ -112,7 +113,6 @@ _EVENT_STATES = {
     DriveEventKind.WARNING: MoveState.WARNING,
     DriveEventKind.ENABLED: MoveState.ENABLED,
 }
-_SLEEP_MARGIN_NS = 80_000  # wake this early and spin the rest: time.sleep overshoots ~50–100 µs
 
 
 @dataclass(frozen=True)
@@ -128,6 +128,8 @@ class BridgeConfig:
     drive: DriveInfo | None = None
     """what drives the axis: published on ``<prefix>/<axis>/drive`` at the start and every
     :data:`DRIVE_INFO_PERIOD`, and named in the report (None: neither)"""
+    timing: TickTiming = field(default_factory=TickTiming)
+    """the ticking thread's real-time priority and cores (tick_clock.py)"""
 
     def __post_init__(self) -> None:
         if not self.speed >= 0.0:
@@ -172,6 +174,8 @@ class BridgeReport:
     """|tick-start period − 1 ms/speed| [µs]; None at speed 0"""
     late_ticks: int = 0
     """ticks that started more than a whole period after their deadline (at speed > 0)"""
+    tick_lateness: DurationStats | None = None
+    """tick start − its deadline [µs]; None at speed 0"""
     rejections: list[str] = field(default_factory=list)
 
     def summary(self) -> str:
@@ -191,6 +195,12 @@ class BridgeReport:
                 f"  period jitter: p50 {j.p50_us:.0f} µs, p99 {j.p99_us:.0f} µs, max {j.max_us:.0f} µs "
                 f"over {j.count} periods; {self.late_ticks} ticks late by more than a period"
             )
+        if self.tick_lateness is not None and self.tick_lateness.count:
+            t = self.tick_lateness
+            lines.append(
+                f"  tick start after its deadline: p50 {t.p50_us:.0f} µs, p99 {t.p99_us:.0f} µs, "
+                f"max {t.max_us:.0f} µs"
+            )
         return "\n".join(lines)
 
     def to_dict(self) -> dict[str, object]:
@@ -208,6 +218,7 @@ class BridgeReport:
             "drive": self.drive,
             "period_jitter": self.period_jitter.to_dict() if self.period_jitter else None,
             "late_ticks": self.late_ticks,
+            "tick_lateness": self.tick_lateness.to_dict() if self.tick_lateness else None,
             "rejections": self.rejections,
         }
 
@@ -653,39 +664,29 @@ def run_bridges(
     config = bridges[0].config
     speed = config.speed
     n_ticks = config.ticks
-    jitter = DurationHistogram()
-    late = 0
-    nominal_ns = EXECUTION_PERIOD_NS / speed if speed > 0 else 0.0
     t_start = time.monotonic_ns()
-    prev = t_start
     done = 0
-    while not stop.is_set() and (n_ticks is None or done < n_ticks):
-        if speed == 0 and not all(b.wait_for_consumer(stop) for b in bridges):
-            break
-        if speed > 0:
-            deadline = t_start + int(done * nominal_ns)
-            now = time.monotonic_ns()
-            if deadline - now > _SLEEP_MARGIN_NS and stop.wait((deadline - now - _SLEEP_MARGIN_NS) * 1e-9):
+    # the deadlines, the thread's priority and the collector's schedule: tick_clock.py
+    with TickClock(EXECUTION_PERIOD_NS / speed if speed > 0 else 0.0, stop, config.timing) as clock:
+        while not stop.is_set() and (n_ticks is None or done < n_ticks):
+            if speed == 0 and not all(b.wait_for_consumer(stop) for b in bridges):
                 break
-            while (now := time.monotonic_ns()) < deadline:
-                pass
-            if done:
-                jitter.add_ns(abs(now - prev - int(nominal_ns)))
-            if now - deadline > nominal_ns:
-                late += 1
-            prev = now
-        for bridge in bridges:
-            bridge.step()
-        if after_tick is not None:
-            after_tick()
-        done += 1
+            if speed > 0 and not clock.wait():
+                break
+            for bridge in bridges:
+                bridge.step()
+            if after_tick is not None:
+                after_tick()
+            clock.after_tick()
+            done += 1
     wall_s = (time.monotonic_ns() - t_start) * 1e-9
     for bridge in bridges:
         report = bridge.report
         report.ticks = bridge.tick
         report.wall_time_s = wall_s
-        report.period_jitter = jitter.stats() if speed > 0 else None
-        report.late_ticks += late
+        report.period_jitter = clock.period_jitter.stats() if speed > 0 else None
+        report.tick_lateness = clock.lateness.stats() if speed > 0 else None
+        report.late_ticks += clock.late_ticks
     return [b.report for b in bridges]
 
 
