@@ -15,7 +15,7 @@ from ..acquisition.bridge.continuity import DEFAULT_JUMP_TOLERANCE_M
 from ..acquisition.bus.options import DEFAULT_ENDPOINT, ZenohOptions
 from ..acquisition.drives.plant_profiles import DEFAULT_PROFILE, PROFILE_RESOURCES
 from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
-from ..arguments import add_params_option, finite_float, params_from_args
+from ..arguments import add_params_option, cpu_list, finite_float, params_from_args, positive_int
 from ..model import EXECUTION_PERIOD_NS, AxisflowError
 from ..processes import notify_ready, stop_on_signals
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
@@ -110,6 +110,21 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="M",
         help=f"largest accepted start-position mismatch of a move [m] (default {DEFAULT_JUMP_TOLERANCE_M})",
     )
+    p.add_argument(
+        "--rt-priority",
+        type=positive_int,
+        default=None,
+        metavar="P",
+        help="run the ticking thread as SCHED_FIFO at priority P (1-99): it preempts ordinary processes "
+        "at each deadline; needs CAP_SYS_NICE or ulimit -r >= P (docs/acquisition.md)",
+    )
+    p.add_argument(
+        "--cpus",
+        type=cpu_list,
+        default=None,
+        metavar="LIST",
+        help="hold the ticking thread to these cores, e.g. 1 or 0,1 (default: any)",
+    )
     p.add_argument("--json", action="store_true", help="print the report as one JSON object")
     add_zenoh_options(p)
     p.set_defaults(func=run)
@@ -148,6 +163,7 @@ def _plant(args: argparse.Namespace, params: AxisParams) -> PlantConfig:
 
 def _bridge_config(args: argparse.Namespace, axis: str, drive: DriveInfo) -> BridgeConfig:
     from ..acquisition.bridge.bridge import BridgeConfig
+    from ..acquisition.bridge.tick_clock import TickTiming
 
     return BridgeConfig(
         keys=AxisKeys(axis, args.prefix),
@@ -156,6 +172,7 @@ def _bridge_config(args: argparse.Namespace, axis: str, drive: DriveInfo) -> Bri
         wait_subscribers_s=args.wait_subscribers,
         jump_tolerance_m=args.jump_tolerance,
         drive=drive,
+        timing=TickTiming(args.rt_priority, args.cpus),
     )
 
 
