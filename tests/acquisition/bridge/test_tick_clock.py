@@ -4,8 +4,10 @@ and cores (where this system allows them)."""
 
 import gc
 import os
+import platform
 import threading
 import time
+from pathlib import Path
 
 import pytest
 from axisflow.acquisition.bridge.tick_clock import TickClock, TickTiming, TickTimingError, _fifo_allowed
@@ -89,3 +91,22 @@ def test_an_rt_priority_this_system_refuses_is_one_line_naming_the_limit():
         pytest.skip("SCHED_FIFO is allowed to this process: nothing to refuse")
     with pytest.raises(TickTimingError, match=r"real-time priority 1 \(SCHED_FIFO\) is not allowed here"):
         TickTiming(rt_priority=1)
+
+
+def _slice_ns() -> int | None:
+    """The calling thread's time slice, as the kernel's scheduler reports it (None: it does not)."""
+    for line in Path("/proc/thread-self/sched").read_text().splitlines():
+        if line.startswith("se.slice"):
+            return int(line.split(":")[1])
+    return None
+
+
+@pytest.mark.skipif(_slice_ns() is None, reason="the kernel reports no time slice")
+def test_an_ordinary_ticking_thread_asks_for_a_short_slice_and_gives_it_back():
+    before = _slice_ns()
+    with TickClock(PERIOD_NS, threading.Event()):
+        inside = _slice_ns()
+    # the scheduler takes a custom slice from Linux 6.12 on (EEVDF); before, the slice is unchanged
+    release = tuple(int(part) for part in platform.release().split(".")[:2])
+    assert inside == (100_000 if release >= (6, 12) else before)
+    assert _slice_ns() == before
