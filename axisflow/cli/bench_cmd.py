@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import ast
+import functools
 import importlib
 import importlib.util
 import tokenize
@@ -71,10 +72,13 @@ def add_benchmark(parser: argparse.ArgumentParser, module: str) -> None:
     """Load the benchmark ``module`` and give ``parser`` its options (once)."""
     if parser.get_default("func") is not None:
         return
+    from ..benchmarks.machine import run_with_reference
+
     mod = importlib.import_module(f"axisflow.benchmarks.{module}")
     parser.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
     mod.add_arguments(parser)
-    parser.set_defaults(func=mod.run, cli_verbs=_verbs)
+    # every benchmark measures the machine reference in its run (benchmarks/machine.py)
+    parser.set_defaults(func=functools.partial(run_with_reference, mod.run), cli_verbs=_verbs)
 
 
 def benchmark_docstring(module: str) -> str | None:
