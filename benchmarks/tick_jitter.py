@@ -129,8 +129,9 @@ def run_bridge(seconds: float, rt: bool) -> Lateness:
 
 
 @contextmanager
-def busy_loops(n: int) -> Iterator[None]:
-    """``n`` Python busy loops, loop i pinned to core i mod the cores there are, for the block."""
+def busy_loops(n: int) -> Iterator[list[int]]:
+    """``n`` Python busy loops, loop i pinned to core i mod the cores there are, for the block (it gets
+    their process ids)."""
     cores = sorted(os.sched_getaffinity(0))
     loops = []
     try:
@@ -138,7 +139,7 @@ def busy_loops(n: int) -> Iterator[None]:
             core = cores[i % len(cores)]
             pin = lambda c=core: os.sched_setaffinity(0, {c})  # noqa: E731
             loops.append(subprocess.Popen([sys.executable, "-c", BUSY_LOOP], preexec_fn=pin))
-        yield
+        yield [loop.pid for loop in loops]
     finally:
         for loop in loops:
             loop.kill()
