@@ -202,7 +202,8 @@ def table(result: dict[str, object]) -> str:
             if t is None:
                 cells = f"{'-':>9}{'-':>9}{'-':>10}{'-':>10}"
             else:  # (the bridge's histogram ends at 100 ms: a p99 there is "at least")
-                p99 = f"{t['p99_us']:.0f}" if t["p99_us"] < _HISTOGRAM_END_US else f"≥{_HISTOGRAM_END_US:.0f}"
+                capped = what == "bridge" and t["p99_us"] >= _HISTOGRAM_END_US
+                p99 = f"≥{_HISTOGRAM_END_US:.0f}" if capped else f"{t['p99_us']:.0f}"
                 cells = f"{t['p50_us']:>9.0f}{p99:>9}{t['max_us']:>10.0f}{t['late']:>10}"
             ratio = f"{row['ratio']:>11.2f}" if what == "bridge" else f"{'':>11}"
             lines.append(f"{row['condition']:<16}{row['scheduling']:<15}{what:<8}{cells}{ratio}"
