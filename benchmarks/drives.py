@@ -21,7 +21,7 @@ recorder process beside it (``axisflow record``), publishing over Zenoh on loopb
 
 Part 3, tick jitter (``--jitter-seconds`` each; :mod:`.tick_jitter`): how late the ticks of
 ``axisflow bridge --sim`` start, beside the floor of this machine (a minimal C loop sleeping to absolute
-1 ms deadlines, compiled at bench time), quiet and beside two busy loops, as ordinary processes and at
+1 ms deadlines, compiled at bench time), as found and beside two busy loops, as ordinary processes and at
 real-time priority where allowed: p50, p99, max and the ticks late by more than a period, and the
 bridge's p99 over the floor's.
 

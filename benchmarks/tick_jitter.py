@@ -11,7 +11,8 @@ lateness (tick start − its deadline) and its ticks late by more than a period.
 
 Each is run as an ordinary process and, where this system allows ``SCHED_FIFO``, at real-time
 priority (the floor: the whole process; the bridge: ``--rt-priority``, its ticking thread alone);
-every pair (floor, bridge) runs quiet and then beside two ``python3 -c "while True: pass"`` loops, one
+every pair (floor, bridge) runs on the machine as found (quiet, unless other work loads it: the load
+average is in the table) and then beside two ``python3 -c "while True: pass"`` loops of its own, one
 pinned to each core, started for the pair and stopped after it. The ratio is the bridge's p99
 lateness over the floor's, in the same scheduling class and the same condition.
 """
@@ -149,7 +150,7 @@ def busy_loops(n: int) -> Iterator[list[int]]:
 @dataclass(frozen=True)
 class JitterRow:
     condition: str
-    """``quiet`` or ``two busy loops``"""
+    """``as found`` or ``+ two busy loops``"""
     scheduling: str
     """``ordinary`` or ``SCHED_FIFO 50``"""
     floor: Lateness | None
@@ -166,12 +167,12 @@ class JitterRow:
 
 
 def measure(seconds: float, progress: Callable[[str], None]) -> dict[str, object]:
-    """Every pair (floor, bridge), ordinary and real-time where allowed, quiet and with two busy loops."""
+    """Every pair (floor, bridge), ordinary and real-time where allowed, as found and with two busy loops."""
     rows: list[JitterRow] = []
     with tempfile.TemporaryDirectory(prefix="axisflow-tick-floor-") as tmp:
         floor = compile_floor(Path(tmp))
         schedulings = [False, True] if rt_allowed() else [False]
-        for condition, loops in (("quiet", 0), ("two busy loops", 2)):
+        for condition, loops in (("as found", 0), ("+ two busy loops", 2)):
             with busy_loops(loops):
                 for rt in schedulings:
                     name = f"SCHED_FIFO {RT_PRIORITY}" if rt else "ordinary"
@@ -193,7 +194,7 @@ def table(result: dict[str, object]) -> str:
     """The jitter table: per condition and scheduling, the floor's and the bridge's lateness."""
     lines = [
         f"tick jitter, {result['seconds']:g} s of 1 kHz ticks each: lateness = tick start − its deadline",
-        f"{'condition':<16}{'scheduling':<15}{'':<8}{'p50 µs':>9}{'p99 µs':>9}{'max µs':>10}{'late>1ms':>10}"
+        f"{'condition':<18}{'scheduling':<15}{'':<8}{'p50 µs':>9}{'p99 µs':>9}{'max µs':>10}{'late>1ms':>10}"
         f"{'p99 ratio':>11}{'load':>7}",
     ]
     for row in result["rows"]:  # type: ignore[attr-defined]
@@ -206,7 +207,7 @@ def table(result: dict[str, object]) -> str:
                 p99 = f"≥{_HISTOGRAM_END_US:.0f}" if capped else f"{t['p99_us']:.0f}"
                 cells = f"{t['p50_us']:>9.0f}{p99:>9}{t['max_us']:>10.0f}{t['late']:>10}"
             ratio = f"{row['ratio']:>11.2f}" if what == "bridge" else f"{'':>11}"
-            lines.append(f"{row['condition']:<16}{row['scheduling']:<15}{what:<8}{cells}{ratio}"
+            lines.append(f"{row['condition']:<18}{row['scheduling']:<15}{what:<8}{cells}{ratio}"
                          f"{row['load_average']:>7.1f}")  # fmt: skip
     for key in ("floor_skipped", "real_time_skipped"):
         if result.get(key):
