@@ -101,9 +101,9 @@ def compile_floor(folder: Path) -> Path | str:
 
 def rt_allowed() -> bool:
     """Whether a process may run as SCHED_FIFO at :data:`RT_PRIORITY` here."""
-    from axisflow.acquisition.bridge.tick_clock import _fifo_allowed
+    from axisflow.acquisition.bridge.tick_clock import fifo_allowed
 
-    return _fifo_allowed(RT_PRIORITY)
+    return fifo_allowed(RT_PRIORITY)
 
 
 def _fifo() -> None:  # preexec_fn of a real-time floor

@@ -84,7 +84,7 @@ class TickTiming:
         if self.rt_priority is not None:
             if not 1 <= self.rt_priority <= 99:
                 raise TickTimingError(f"real-time priority {self.rt_priority} is outside 1…99 (SCHED_FIFO)")
-            if not _fifo_allowed(self.rt_priority):
+            if not fifo_allowed(self.rt_priority):
                 raise TickTimingError(_not_allowed(self.rt_priority))
         if self.cpus is not None:
             available = sorted(os.sched_getaffinity(0))
@@ -291,7 +291,7 @@ class TickClock:
         return self._counts.collections
 
 
-def _fifo_allowed(priority: int) -> bool:
+def fifo_allowed(priority: int) -> bool:
     """Whether a thread of this process may run as SCHED_FIFO at ``priority`` (tried on a thread of
     its own, which ends right after)."""
     allowed: list[bool] = []

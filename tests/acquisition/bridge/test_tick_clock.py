@@ -10,7 +10,7 @@ import time
 from pathlib import Path
 
 import pytest
-from axisflow.acquisition.bridge.tick_clock import TickClock, TickTiming, TickTimingError, _fifo_allowed
+from axisflow.acquisition.bridge.tick_clock import TickClock, TickTiming, TickTimingError, fifo_allowed
 
 PERIOD_NS = 1_000_000
 
@@ -67,7 +67,7 @@ def test_bad_timings_are_refused_naming_the_value():
         TickTiming(cpus=(0, missing))
 
 
-@pytest.mark.skipif(not _fifo_allowed(1), reason="SCHED_FIFO is not allowed to this process")
+@pytest.mark.skipif(not fifo_allowed(1), reason="SCHED_FIFO is not allowed to this process")
 def test_the_ticking_thread_alone_runs_at_real_time_priority_on_its_core():
     core = min(os.sched_getaffinity(0))
     seen = {}
@@ -87,7 +87,7 @@ def test_the_ticking_thread_alone_runs_at_real_time_priority_on_its_core():
 
 
 def test_an_rt_priority_this_system_refuses_is_one_line_naming_the_limit():
-    if _fifo_allowed(1):
+    if fifo_allowed(1):
         pytest.skip("SCHED_FIFO is allowed to this process: nothing to refuse")
     with pytest.raises(TickTimingError, match=r"real-time priority 1 \(SCHED_FIFO\) is not allowed here"):
         TickTiming(rt_priority=1)
