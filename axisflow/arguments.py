@@ -56,6 +56,17 @@ def positive_int(text: str) -> int:
     return value
 
 
+def cpu_list(text: str) -> tuple[int, ...]:
+    """argparse type: comma-separated CPU numbers, each >= 0 (``0,1``)."""
+    try:
+        cpus = tuple(int(c) for c in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a comma-separated list of CPU numbers") from None
+    if min(cpus) < 0:
+        raise argparse.ArgumentTypeError(f"CPU numbers {text!r} must be whole numbers >= 0")
+    return cpus
+
+
 def tcp_port(text: str) -> int:
     """argparse type: a TCP port to connect to or listen on, 1…65535."""
     value = positive_int(text)

@@ -19,6 +19,12 @@ recorder process beside it (``axisflow record``), publishing over Zenoh on loopb
   late cycles (an interval over 1.5 periods) and missed cycles (over 2: what a drive's SYNC watch
   counts).
 
+Part 3, tick jitter (``--jitter-seconds`` each; :mod:`.tick_jitter`): how late the ticks of
+``axisflow bridge --sim`` start, beside the floor of this machine (a minimal C loop sleeping to absolute
+1 ms deadlines, compiled at bench time), as found and beside two busy loops, as ordinary processes and at
+real-time priority where allowed: p50, p99, max and the ticks late by more than a period, and the
+bridge's p99 over the floor's.
+
 ``--json`` prints one object; docs/drives.md has a measured table and the command.
 """
 
@@ -37,6 +43,7 @@ from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from axisflow.benchmarks import tick_jitter
 from axisflow.benchmarks.pipeline import free_port
 
 from axisflow.arguments import finite_float, positive_int
@@ -57,7 +64,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--seconds", type=finite_float, default=20.0, help="wall-paced run length [s] (default 20)"
     )
-    parser.add_argument("--no-wall", action="store_true", help="only the lock-step part")
+    parser.add_argument("--no-wall", action="store_true", help="no wall-paced part")
+    parser.add_argument(
+        "--jitter-seconds",
+        type=finite_float,
+        default=10.0,
+        help="length of each tick-jitter run [s] (default 10; 0 = skip the tick-jitter part)",
+    )
 
 
 # ---- part 1: lock-step ------------------------------------------------------------------------------
@@ -232,6 +245,8 @@ def run(args: argparse.Namespace) -> int:
     if not args.no_wall:
         progress(f"wall pacing: {args.seconds:g} s each, a recorder beside the bridge")
         result["wall"] = wall(args.seconds, progress)
+    if args.jitter_seconds > 0:
+        result["tick_jitter"] = tick_jitter.measure(args.jitter_seconds, progress)
     result["load_average"] = os.getloadavg()
     if args.json:
         print(json.dumps(result, indent=1))
@@ -278,5 +293,7 @@ def table(result: dict[str, Any]) -> str:
             lines.append(
                 f"{label:<34}{share:>15}{jitter:>10.0f}µs{cycles:>20}{ratio:>8.2f}{r['drive_faults']:>8}"
             )
+    if "tick_jitter" in result:
+        lines += ["", tick_jitter.table(result["tick_jitter"])]
     lines.append(f"load average during the run: {', '.join(f'{x:.2f}' for x in result['load_average'])}")
     return "\n".join(lines)

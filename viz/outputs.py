@@ -16,7 +16,6 @@ Every rerun process started here runs with ``CI=1`` (the rerun CLI's analytics s
 
 from __future__ import annotations
 
-import _thread
 import os
 import resource
 import signal
@@ -57,9 +56,11 @@ def _quiet_half_built_streams(previous: Any) -> Any:
             if isinstance(exc, AttributeError) and getattr(exc, "name", None) == "inner":
                 return
             if isinstance(exc, KeyboardInterrupt):  # a stop landed in the stream's flush: deliver it again
-                # from another thread, once this hook has returned (raised here, it would be lost too)
+                # from another thread, once this hook has returned (raised here, it would be lost too),
+                # as a signal to the main thread: it also ends a sleep or a wait the thread is in
                 signum = getattr(exc, "signum", signal.SIGINT)
-                threading.Timer(0.05, _thread.interrupt_main, (signum,)).start()
+                main = threading.main_thread().ident
+                threading.Timer(0.05, signal.pthread_kill, (main, signum)).start()
                 return
         previous(unraisable)
 

@@ -62,7 +62,6 @@ from ..bus.publisher import (
 from ..bus.readiness import MatchWatch, NotReadyError, say_hello
 from ..drives.drive import Drive
 from ..errors import AcquisitionError, AxisTakenError, zenoh_reason
-from ..histogram import DurationHistogram
 from ..wire.attachment import unpack_attachment
 from ..wire.axis_sample_encoder import AxisSampleEncoder
 from ..wire.drive_info import DRIVE_INFO_TYPE
@@ -77,6 +76,7 @@ from .move_queue import MoveQueue, validate_move
 from .report import BridgeReport
 from .statuses import StatusOutbox
 from .supervision import Supervision
+from .tick_clock import TickClock
 
 log = logging.getLogger(__name__)
 
@@ -93,8 +93,6 @@ STATUSES_PER_TICK = 8
 """move statuses published per tick, after the tick's setpoint; more wait in order for the next ticks
 (a sender that vanishes, or a quick stop, can drop a whole queue of 1024 moves at once: their statuses
 go out over ~130 ms instead of stalling one tick by ~20 ms). Each carries the tick it happened at."""
-_SLEEP_MARGIN_NS = 80_000  # wake this early and spin the rest: time.sleep overshoots ~50–100 µs
-
 __all__ = ["Bridge", "BridgeConfig", "BridgeReport", "run_bridge", "run_bridges"]
 
 
@@ -328,39 +326,29 @@ def run_bridges(
     config = bridges[0].config
     speed = config.speed
     n_ticks = config.ticks
-    jitter = DurationHistogram()
-    late = 0
-    nominal_ns = EXECUTION_PERIOD_NS / speed if speed > 0 else 0.0
     t_start = time.monotonic_ns()
-    prev = t_start
     done = 0
-    while not stop.is_set() and (n_ticks is None or done < n_ticks):
-        if speed == 0 and not all(b.wait_for_consumer(stop) for b in bridges):
-            break
-        if speed > 0:
-            deadline = t_start + int(done * nominal_ns)
-            now = time.monotonic_ns()
-            if deadline - now > _SLEEP_MARGIN_NS and stop.wait((deadline - now - _SLEEP_MARGIN_NS) * 1e-9):
+    # the deadlines, the thread's priority and the collector's schedule: tick_clock.py
+    with TickClock(EXECUTION_PERIOD_NS / speed if speed > 0 else 0.0, stop, config.timing) as clock:
+        while not stop.is_set() and (n_ticks is None or done < n_ticks):
+            if speed == 0 and not all(b.wait_for_consumer(stop) for b in bridges):
                 break
-            while (now := time.monotonic_ns()) < deadline:
-                pass
-            if done:
-                jitter.add_ns(abs(now - prev - int(nominal_ns)))
-            if now - deadline > nominal_ns:
-                late += 1
-            prev = now
-        for bridge in bridges:
-            bridge.step()
-        if after_tick is not None:
-            after_tick()
-        done += 1
+            if speed > 0 and not clock.wait():
+                break
+            for bridge in bridges:
+                bridge.step()
+            if after_tick is not None:
+                after_tick()
+            clock.after_tick()
+            done += 1
     wall_s = (time.monotonic_ns() - t_start) * 1e-9
     for bridge in bridges:
         report = bridge.report
         report.ticks = bridge.tick
         report.wall_time_s = wall_s
-        report.period_jitter = jitter.stats() if speed > 0 else None
-        report.late_ticks += late
+        report.period_jitter = clock.period_jitter.stats() if speed > 0 else None
+        report.tick_lateness = clock.lateness.stats() if speed > 0 else None
+        report.late_ticks += clock.late_ticks
     return [b.report for b in bridges]
 
 

@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from ...model import EXECUTION_PERIOD_NS
 from ..errors import AcquisitionError
 from ..wire.drive_info import DriveInfo
 from ..wire.keys import AxisKeys
 from .continuity import DEFAULT_JUMP_TOLERANCE_M
+from .tick_clock import TickTiming
 
 
 @dataclass(frozen=True)
@@ -25,6 +26,8 @@ class BridgeConfig:
     """what drives the axis: published on ``<prefix>/<axis>/drive`` at the start and every
     :data:`~axisflow.acquisition.wire.drive_info.PERIOD_TICKS`, and named in the report (None:
     neither)"""
+    timing: TickTiming = field(default_factory=TickTiming)
+    """the ticking thread's real-time priority and cores (tick_clock.py)"""
 
     def __post_init__(self) -> None:
         if not self.speed >= 0.0:

@@ -3,7 +3,11 @@ own, handed to the 1 kHz loop in arrival order.
 
 Validating a move samples it at 1 kHz (a one-hour move: 3.6 million samples), which must not stall the
 drive's loop. So a worker thread owns the subscriber (a Zenoh FIFO channel: no Python callback runs on
-Zenoh's threads, and only this thread touches the channel, from declaration to undeclaration), decodes
+Zenoh's threads, and only this thread touches the channel, from declaration to undeclaration). It waits
+in the channel's blocking receive, which holds no interpreter lock: an idle intake never takes the lock
+the loop's ticks need (a thread that polled took it 500 times a second, and one preempted while holding
+it held up a real-time tick for as long as the scheduler kept it off a core); closing it wakes the
+receive with an empty sample put only inside this session. It decodes
 each :class:`~axisflow.acquisition.wire.messages.MoveCommand`, counts the sequence numbers its sender skipped
 and runs the stateless part of the validation
 (:func:`~axisflow.acquisition.bridge.move_queue.validate_move`); the loop collects the results with
@@ -37,8 +41,6 @@ MAX_PAYLOAD_BYTES = 32 * MAX_KNOTS + 65536
 """the largest move payload taken [bytes]: four float64 knot arrays of MAX_KNOTS knots and the fixed
 fields. A larger one is rejected before it is copied out of Zenoh's buffer (that copy holds the
 interpreter lock, ~0.45 ms per MB, stalling the 1 kHz loop)"""
-_IDLE_S = 0.002
-"""the worker's sleep when no move is waiting (the latency it adds to a move's acceptance)"""
 _STOP_TIMEOUT_S = 5.0
 """how long closing the intake waits for its thread (it undeclares its subscriber) [s]"""
 _START_TIMEOUT_S = 10.0
@@ -87,6 +89,10 @@ class MoveIntake:
 
     def __exit__(self, *_exc: object) -> None:
         self._stop.set()
+        try:  # wake the receive: delivered to this session's subscribers only, never sent anywhere
+            self._session.put(self._key, b"", allowed_destination=zenoh.Locality.SESSION_LOCAL)
+        except zenoh.ZError as exc:  # the session is closing: so is the channel
+            log.debug("the move intake of %s not woken: %s", self._key, exc)
         self._thread.join(_STOP_TIMEOUT_S)
         if self._thread.is_alive():  # its subscriber's undeclaration hangs: the daemon thread is left
             log.warning(
@@ -104,11 +110,13 @@ class MoveIntake:
             return
         self._ready.set()
         with subscriber:
-            while not self._stop.is_set():
-                sample = subscriber.try_recv()
-                if sample is None:
-                    self._stop.wait(_IDLE_S)
-                    continue
+            while True:
+                try:
+                    sample = subscriber.recv()
+                except zenoh.ZError:  # the channel closed with the session
+                    return
+                if self._stop.is_set():
+                    return
                 self._results.put(self._receive(sample))
                 self._arrived.set()
                 time.sleep(0)  # hand the interpreter lock to the 1 kHz loop if it waits for it

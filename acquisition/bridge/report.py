@@ -33,6 +33,8 @@ class BridgeReport:
     """|tick-start period − 1 ms/speed| [µs]; None at speed 0"""
     late_ticks: int = 0
     """ticks that started more than a whole period after their deadline (at speed > 0)"""
+    tick_lateness: DurationStats | None = None
+    """tick start − its deadline [µs]; None at speed 0"""
     rejections: list[str] = field(default_factory=list)
 
     def summary(self) -> str:
@@ -52,6 +54,12 @@ class BridgeReport:
                 f"  period jitter: p50 {j.p50_us:.0f} µs, p99 {j.p99_us:.0f} µs, max {j.max_us:.0f} µs "
                 f"over {j.count} periods; {self.late_ticks} ticks late by more than a period"
             )
+        if self.tick_lateness is not None and self.tick_lateness.count:
+            t = self.tick_lateness
+            lines.append(
+                f"  tick start after its deadline: p50 {t.p50_us:.0f} µs, p99 {t.p99_us:.0f} µs, "
+                f"max {t.max_us:.0f} µs"
+            )
         return "\n".join(lines)
 
     def to_dict(self) -> dict[str, object]:
@@ -69,5 +77,6 @@ class BridgeReport:
             "drive": self.drive,
             "period_jitter": self.period_jitter.to_dict() if self.period_jitter else None,
             "late_ticks": self.late_ticks,
+            "tick_lateness": self.tick_lateness.to_dict() if self.tick_lateness else None,
             "rejections": self.rejections,
         }

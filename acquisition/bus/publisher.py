@@ -17,8 +17,9 @@ import zenoh
 
 from ..errors import zenoh_reason
 from ..wire.attachment import pack_attachment
+from ..wire.last_sequences import LastSequence, LastSequences
 from ..wire.messages import SCHEMAS
-from .readiness import FLUSH_TIMEOUT_S, HelloResponder, MatchWatch, confirm_delivery
+from .readiness import FLUSH_TIMEOUT_S, HelloResponder, MatchWatch, confirm_delivery, tell_last_sequences
 
 log = logging.getLogger(__name__)
 
@@ -80,23 +81,30 @@ class SequencedPublisher:
         self.priority = priority
         """the Zenoh priority its samples travel at"""
         self.key = key
+        self._session = session
         self.gid = os.urandom(16) if gid is None else gid
         self.sequence = 0
         self._pub = session.declare_publisher(
             key, encoding=encoding_for(type_name), priority=priority, congestion_control=congestion
         )
         try:
-            self._hello = HelloResponder(session, key, self.gid)
+            self._hello = HelloResponder(session, key, self.gid, lambda: self.sequence)
         except BaseException:
             self._pub.undeclare()
             raise
 
     def put(self, payload: bytes, source_stamp_ns: int | None = None) -> int:
-        """Publish one message; returns its sequence number (1, 2, …)."""
-        self.sequence += 1
+        """Publish one message; returns its sequence number (1, 2, …). :attr:`sequence` counts it once
+        ``put`` has handed it to Zenoh (a hello answered meanwhile says only what has left)."""
+        sequence = self.sequence + 1
         stamp = time.time_ns() if source_stamp_ns is None else source_stamp_ns
-        self._pub.put(payload, attachment=pack_attachment(self.sequence, stamp, self.gid))
-        return self.sequence
+        self._pub.put(payload, attachment=pack_attachment(sequence, stamp, self.gid))
+        self.sequence = sequence
+        return sequence
+
+    def last_sequence(self) -> LastSequence:
+        """Its key, its id and the number of the last message it put."""
+        return LastSequence(self.key, self.gid.hex(), self.sequence)
 
     @property
     def has_subscribers(self) -> bool:
@@ -108,7 +116,14 @@ class SequencedPublisher:
         return MatchWatch([self._pub])
 
     def undeclare(self) -> None:
+        """Undeclare it, saying its last number to the joined subscribers (they count what of it did not
+        arrive: :func:`~.readiness.tell_last_sequences`)."""
         self._hello.undeclare()
+        try:
+            if self.sequence:
+                tell_last_sequences(self._session, LastSequences((self.last_sequence(),)))
+        except zenoh.ZError as exc:  # the session is going
+            log.debug("the last number of %s not said: %s", self.key, zenoh_reason(exc))
         self._pub.undeclare()
 
     def __enter__(self) -> SequencedPublisher:
@@ -123,10 +138,13 @@ def confirm_delivered(
 ) -> int:
     """Before ``session`` closes: wait (at most ``timeout_s``) until every joined subscriber, a recorder
     for one, has taken what ``publishers`` sent — closing drops what still waits to be sent
-    (:func:`~.readiness.confirm_delivery`). Returns how many confirmed; 0 at once when none listens,
-    and 0 when the session is already going."""
+    (:func:`~.readiness.confirm_delivery`) — and tell each their last sequence numbers, so that what
+    did not arrive is counted. Returns how many confirmed; 0 at once when none listens, and 0 when the
+    session is already going."""
+    publishers = list(publishers)
+    counts = LastSequences(tuple(p.last_sequence() for p in publishers))
     try:
-        return confirm_delivery(session, [p.priority for p in publishers], timeout_s)
+        return confirm_delivery(session, [p.priority for p in publishers], timeout_s, counts)
     except zenoh.ZError as exc:
         log.debug("delivery of the last messages not confirmed: %s", zenoh_reason(exc))
         return 0

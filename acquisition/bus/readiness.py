@@ -40,10 +40,21 @@ the last 120–341 of 500 samples in 4 of 16 runs. Every joined subscriber answe
 :func:`confirm_delivery` asks them all at each priority its publishers used, behind the samples in
 the same transmit queue, so an answer proves that everything sent before it has reached that
 subscriber's channel. A publisher calls it before it closes its session.
+
+**What a publisher sent, counted.** Telemetry drops on congestion, and Zenoh does not tell the
+publisher what it dropped; what the publisher does know is its sequence numbers. A receiver counts the
+gaps between the messages that reached it, but the messages after the last one that did (dropped
+while a starved recorder could not take them, say) leave no gap. So the receipt query carries each
+publisher's last number (:class:`~axisflow.acquisition.wire.last_sequences.LastSequences`), and goes
+first at ``Priority.REAL_TIME``, ahead of a backlog that may not drain before the publisher gives up
+waiting; a subscriber hands it to its owner (``on_counts``), which counts the numbers after the last
+one received as missed. A hello's answer carries the number too: a subscriber that joins is owed the
+numbers after the one in the answer, and one that stops, those up to the one in its last hello's.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import logging
 import os
@@ -59,6 +70,7 @@ import zenoh
 from ..errors import AcquisitionError, WireError, zenoh_reason
 from ..wire.hello import HELLO_ENCODING, Hello
 from ..wire.keys import hello_key, hello_selector, receipt_key, receipt_selector
+from ..wire.last_sequences import LAST_SEQUENCES_ENCODING, LastSequences
 
 log = logging.getLogger(__name__)
 
@@ -75,6 +87,8 @@ _IDLE_S = 0.0005
 _HELLO_PRIORITY = zenoh.Priority.DATA
 """the priority of Zenoh's declarations in 1.10 (``QoSType::DECLARE``): the hello must travel in
 order with them (a hello of a higher priority overtakes them: docs/acquisition.md)"""
+_COUNTS_PRIORITY = zenoh.Priority.REAL_TIME
+"""the first receipt query, with the publishers' last numbers, overtakes the samples still queued"""
 
 
 _RECEIPT_NUMBERS = itertools.count(1)
@@ -86,18 +100,23 @@ class NotReadyError(AcquisitionError):
 
 
 class HelloResponder:
-    """The hello queryable of one publisher (declared and undeclared with it)."""
+    """The hello queryable of one publisher (declared and undeclared with it); ``sequence`` says the
+    number of the last message it has put."""
 
-    def __init__(self, session: zenoh.Session, key: str, publisher_id: bytes) -> None:
+    def __init__(
+        self, session: zenoh.Session, key: str, publisher_id: bytes, sequence: Callable[[], int]
+    ) -> None:
         zid = str(session.info.zid())
-        self._answer = Hello(key, publisher_id.hex(), zid, socket.gethostname(), os.getpid()).encode()
+        self._hello = Hello(key, publisher_id.hex(), zid, socket.gethostname(), os.getpid(), 0)
+        self._sequence = sequence
         self._key = hello_key(key, publisher_id)
-        # replying from Zenoh's thread: a constant payload, no Python work worth a queue
+        # replying from Zenoh's thread: a small payload, no Python work worth a queue
         self._queryable = session.declare_queryable(self._key, self._reply)
 
     def _reply(self, query: zenoh.Query) -> None:
+        answer = dataclasses.replace(self._hello, sequence=self._sequence()).encode()
         try:
-            query.reply(self._key, self._answer, encoding=HELLO_ENCODING)
+            query.reply(self._key, answer, encoding=HELLO_ENCODING)
         except zenoh.ZError as exc:  # the asker went away
             log.debug("hello to %s not answered: %s", self._key, zenoh_reason(exc))
 
@@ -111,12 +130,16 @@ def _ask_all(
     priority: zenoh.Priority,
     timeout_s: float,
     on_reply: Callable[[zenoh.Reply], None],
+    payload: bytes | None = None,
 ) -> threading.Event:
     """Query every queryable on ``selector`` (all of them, answers not consolidated, blocking on
-    congestion so that the query keeps its place behind what was sent before it) at ``priority``;
-    ``on_reply`` runs on Zenoh's thread. The event is set once the query has ended: all answered, or
-    ``timeout_s`` passed."""
+    congestion so that the query keeps its place behind what was sent before it) at ``priority``,
+    with ``payload`` if given; ``on_reply`` runs on Zenoh's thread. The event is set once the query
+    has ended: all answered, or ``timeout_s`` passed."""
     done = threading.Event()
+    extra: dict[str, Any] = {}
+    if payload is not None:
+        extra = {"payload": payload, "encoding": LAST_SEQUENCES_ENCODING}
     session.get(
         selector,
         zenoh.handlers.Callback(on_reply, done.set),
@@ -125,19 +148,30 @@ def _ask_all(
         priority=priority,
         congestion_control=zenoh.CongestionControl.BLOCK,
         timeout=max(timeout_s, 0.001),
+        **extra,
     )
     return done
 
 
 class ReceiptResponder:
     """The receipt queryable of one joined subscriber: it answers every query at once, so the answer
-    leaves after everything the asker sent before its query has been taken by this session."""
+    leaves after everything the asker sent before its query has been taken by this session. A query
+    that carries its publishers' last numbers is handed to ``on_counts`` first (on Zenoh's thread:
+    keep it short)."""
 
-    def __init__(self, session: zenoh.Session) -> None:
+    def __init__(
+        self, session: zenoh.Session, on_counts: Callable[[LastSequences], None] | None = None
+    ) -> None:
+        self._on_counts = on_counts
         self._key = receipt_key(str(session.info.zid()), next(_RECEIPT_NUMBERS))
         self._queryable = session.declare_queryable(self._key, self._reply)
 
     def _reply(self, query: zenoh.Query) -> None:
+        if self._on_counts is not None and query.payload is not None:
+            try:
+                self._on_counts(LastSequences.decode(query.payload.to_bytes()))
+            except WireError as exc:  # an asker that is not ours
+                log.warning("a receipt query on %s: %s", self._key, exc)
         try:
             query.reply(self._key, b"")
         except zenoh.ZError as exc:  # the asker went away
@@ -148,24 +182,39 @@ class ReceiptResponder:
 
 
 def confirm_delivery(
-    session: zenoh.Session, priorities: Iterable[zenoh.Priority], timeout_s: float = FLUSH_TIMEOUT_S
+    session: zenoh.Session,
+    priorities: Iterable[zenoh.Priority],
+    timeout_s: float = FLUSH_TIMEOUT_S,
+    counts: LastSequences | None = None,
 ) -> int:
     """Ask every joined subscriber for a receipt at each of ``priorities`` (those of the publishers
     whose samples must arrive) and wait for the answers, at most ``timeout_s``; returns the fewest
-    answers any priority got (0 when no subscriber listens: then there is nothing to wait for)."""
-    distinct: list[zenoh.Priority] = []  # (zenoh's priorities compare, but do not hash)
-    for priority in priorities:
+    answers any priority got (0 when no subscriber listens: then there is nothing to wait for).
+    ``counts``: the publishers' last numbers, carried by every query, the first of them sent at
+    ``REAL_TIME`` ahead of the samples still queued (see the module docstring)."""
+    distinct: list[zenoh.Priority] = [] if counts is None else [_COUNTS_PRIORITY]
+    for priority in priorities:  # (zenoh's priorities compare, but do not hash)
         if priority not in distinct:
             distinct.append(priority)
+    payload = None if counts is None else counts.encode()
     rounds = []
     for priority in distinct:
         answers: list[int] = []
         on_reply = lambda reply, got=answers: got.append(reply.ok is not None)  # noqa: E731
-        rounds.append((answers, _ask_all(session, receipt_selector(), priority, timeout_s, on_reply)))
+        asked = _ask_all(session, receipt_selector(), priority, timeout_s, on_reply, payload)
+        rounds.append((answers, asked))
     deadline = time.monotonic() + timeout_s + 0.1  # (Zenoh ends each query at its timeout)
     for _answers, done in rounds:
         done.wait(max(deadline - time.monotonic(), 0.0))
     return min((sum(answers) for answers, _done in rounds), default=0)
+
+
+def tell_last_sequences(session: zenoh.Session, counts: LastSequences) -> None:
+    """Say ``counts`` to every joined subscriber (a receipt query at ``REAL_TIME``) without waiting for
+    an answer: what a publisher does as it is undeclared (:func:`confirm_delivery` also waits for the
+    samples to arrive)."""
+    ignore = lambda _reply: None  # noqa: E731
+    _ask_all(session, receipt_selector(), _COUNTS_PRIORITY, FLUSH_TIMEOUT_S, ignore, counts.encode())
 
 
 @dataclass(frozen=True)
@@ -261,7 +310,8 @@ class JoinedSubscriber:
     ``key_expr`` by an axisflow publisher from then on is missed on the way — unless ``stop`` was set
     while it joined, in which case :attr:`subscriber` is None. ``announce``: a liveliness token
     declared once ready (after the subscriber, so a session that sees it knows the subscriber too),
-    held until exit."""
+    held until exit. ``on_counts``: called (on Zenoh's thread) with the last numbers a closing
+    publisher's receipt query carries."""
 
     def __init__(
         self,
@@ -271,9 +321,11 @@ class JoinedSubscriber:
         timeout_s: float = HELLO_TIMEOUT_S,
         stop: threading.Event | None = None,
         announce: str | None = None,
+        on_counts: Callable[[LastSequences], None] | None = None,
     ) -> None:
         self._session, self.key_expr, self._handler = session, key_expr, handler
         self.timeout_s, self._stop, self._announce = timeout_s, stop, announce
+        self._on_counts = on_counts
         self.subscriber: zenoh.Subscriber | None = None
         self.report: JoinReport | None = None
         self._token: zenoh.LivelinessToken | None = None
@@ -282,7 +334,7 @@ class JoinedSubscriber:
     def __enter__(self) -> JoinedSubscriber:
         # the receipt queryable first: its declaration reaches a publisher before the subscriber's, so
         # a publisher that starts on seeing the subscriber can already ask it
-        self._receipts = ReceiptResponder(self._session)
+        self._receipts = ReceiptResponder(self._session, self._on_counts)
         try:
             return self._join()
         except BaseException:
@@ -321,17 +373,16 @@ class JoinedSubscriber:
 
     def flush(
         self, timeout_s: float = FLUSH_TIMEOUT_S, while_waiting: Callable[[], int] | None = None
-    ) -> bool:
+    ) -> HelloRound | None:
         """One hello: once answered, everything the publishers sent before it has arrived — in the
         channel, behind at most its capacity of samples (keep draining it with ``while_waiting``
-        meanwhile, then take at most that many). False (and a warning) if some did not answer within
-        ``timeout_s``."""
+        meanwhile, then take at most that many). Returns the round (each answer with the publisher's
+        last number then); None (and a warning) if some did not answer within ``timeout_s``."""
         try:
-            say_hello(self._session, self.key_expr, timeout_s, while_waiting=while_waiting)
+            return say_hello(self._session, self.key_expr, timeout_s, while_waiting=while_waiting)
         except NotReadyError as exc:
             log.warning("%s", exc)
-            return False
-        return True
+            return None
 
     def __exit__(self, *_exc: object) -> None:
         if self._token is not None:

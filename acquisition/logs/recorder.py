@@ -27,8 +27,13 @@ the channel is drained, then the summary and footer are written: nothing sent be
 Splitting: with ``split_bytes`` or ``split_duration_s`` the recording rolls over to
 ``<stem>_0000.mcap``, ``<stem>_0001.mcap``, … at the first flush past the limit.
 
-Counting. Per topic: messages, first/last log time, and messages missed, from the gaps in the
-sequence numbers of each publisher (key, publisher id); publish→write latency in a histogram.
+Counting. Per topic: messages, first/last log time, and messages missed: the gaps in the sequence
+numbers of each publisher (key, publisher id), and what no gap shows — the numbers a publisher sent
+before the first message that arrived (its number in the answer to the join's last hello says where
+the recorder's due begins) and after the last one (a closing publisher says its last number with its
+receipt query, a running one in its answer to the stop's hello): recorded + dropped + missed is what
+the publishers sent. A publisher that never said its last number (killed, or its link lost) is
+counted as *untold*. Publish→write latency in a histogram.
 """
 
 from __future__ import annotations
@@ -45,12 +50,13 @@ from pathlib import Path
 import zenoh
 
 from ..bus.publisher import mcap_encoding_of
-from ..bus.readiness import HELLO_TIMEOUT_S, JoinedSubscriber, JoinReport
+from ..bus.readiness import HELLO_TIMEOUT_S, HelloRound, JoinedSubscriber, JoinReport
 from ..bus.session import check_key_expression
 from ..errors import RecordingError
 from ..histogram import DurationHistogram, DurationStats
 from ..wire.attachment import unpack_attachment
 from ..wire.keys import key_within, recorder_token, topic_for_key
+from ..wire.last_sequences import LastSequence, LastSequences
 from ..wire.sequence import SequenceTracker
 from .recorder_config import (
     LIVE_STAMP_WINDOW_NS,
@@ -84,7 +90,8 @@ class TopicStats:
 
     @property
     def missed(self) -> int:
-        """messages lost on the way (gaps in the sequence numbers)"""
+        """messages lost on the way (from the sequence numbers: gaps, and the heads and tails the
+        publishers' own numbers reveal)"""
         return self.sequences.missed
 
     @property
@@ -123,6 +130,11 @@ class RecordSummary:
     def dropped(self) -> int:
         return sum(t.dropped for t in self.topics.values())
 
+    @property
+    def untold(self) -> int:
+        """publishers that never said their last number: a loss after their last message is not known"""
+        return sum(t.sequences.untold for t in self.topics.values())
+
     def format(self) -> str:
         lines = [
             f"recorded {self.messages} messages on {len(self.topics)} topics in {self.wall_time_s:.3f} s "
@@ -148,6 +160,11 @@ class RecordSummary:
                 )
             if t.sequences.duplicates:
                 lines.append(f"  {t.topic}: {t.sequences.duplicates} messages repeated or out of order")
+        if self.untold:
+            lines.append(
+                f"  {self.untold} publishers did not say their last sequence number (killed, or their link "
+                "lost): a loss after their last recorded message is not counted"
+            )
         if not self.files:
             lines.append("  stopped before the recording began: no file written")
         elif not self.topics:
@@ -172,6 +189,7 @@ class RecordSummary:
             "messages": self.messages,
             "missed": self.missed,
             "dropped": self.dropped,
+            "untold_publishers": self.untold,
             "wall_time_s": self.wall_time_s,
             "latency": self.latency.to_dict() if self.latency and not self.stale_stamps else None,
             "stale_stamps": self.stale_stamps,
@@ -190,6 +208,10 @@ class RecordSummary:
                             "last_sequence": p.last,
                             "messages": p.messages,
                             "missed": p.missed,
+                            "gaps": p.gaps,
+                            "head": p.head,
+                            "tail": p.tail,
+                            "said_last_sequence": p.said or None,
                         }
                         for gid, p in t.sequences.publishers.items()
                     ],
@@ -259,6 +281,11 @@ class Recorder:
         """per key of the open file: its channel id and its counts"""
         self._reported_drops = 0
         self._wake_key: str | None = None
+        self._owed_from: dict[tuple[str, bytes], int] = {}
+        """per (key, publisher id) that answered the join's last hello: its first number owed"""
+        self._said: dict[tuple[str, bytes], int] = {}
+        """per (key, publisher id): the last number it said it sent (filled on Zenoh's thread)"""
+        self._said_lock = threading.Lock()
         self.ready = threading.Event()
         """set once the subscriber has joined: nothing published from then on is missed"""
 
@@ -274,6 +301,38 @@ class Recorder:
         self._file_started = time.monotonic()
         self._routes.clear()  # channel ids are the new file's
         return writer
+
+    def _on_counts(self, counts: LastSequences) -> None:
+        """A closing publisher's last numbers (on Zenoh's thread): kept for :meth:`_count_the_untold`."""
+        recorded = zenoh.KeyExpr(self.config.keys)
+        with self._said_lock:
+            for p in counts.publishers:
+                if recorded.includes(zenoh.KeyExpr(p.key)):
+                    where = (p.key, p.publisher_id)
+                    self._said[where] = max(self._said.get(where, 0), p.sequence)
+
+    def _heard(self, round_: HelloRound | None) -> None:
+        """The last numbers the publishers had when they answered the stop's hello."""
+        if round_ is not None:
+            heard = tuple(LastSequence(h.key, h.publisher, h.sequence) for h in round_.hellos)
+            self._on_counts(LastSequences(heard))
+
+    def _count_the_untold(self) -> None:
+        """Once the stream has ended: the numbers owed before each publisher's first message and after
+        its last (:meth:`SequenceTracker.expect`, :meth:`SequenceTracker.said`)."""
+        with self._said_lock:
+            said = dict(self._said)
+        for (key, gid), first in self._owed_from.items():
+            self._stats_of(key).sequences.expect(gid, first)
+        for (key, gid), last in said.items():
+            self._stats_of(key).sequences.said(gid, last)
+
+    def _stats_of(self, key: str) -> TopicStats:
+        topic = topic_for_key(key)
+        stats = self.summary.topics.get(topic)
+        if stats is None:  # nothing of it arrived
+            stats = self.summary.topics[topic] = TopicStats(topic)
+        return stats
 
     def _finish_file(self) -> None:
         """Finish the open file, with the loss of this recording so far in its metadata."""
@@ -372,12 +431,13 @@ class Recorder:
         # joined before the file is created: a recorder that cannot join leaves no file behind
         token = recorder_token(socket.gethostname(), os.getpid())
         with JoinedSubscriber(
-            session, c.keys, handler, c.join_timeout_s or HELLO_TIMEOUT_S, stop, token
+            session, c.keys, handler, c.join_timeout_s or HELLO_TIMEOUT_S, stop, token, self._on_counts
         ) as joined:
-            if joined.subscriber is None:  # stopped before it was ready: nothing to write
+            if joined.subscriber is None or joined.report is None:  # stopped before it was ready
                 self.summary.wall_time_s = time.monotonic() - t0
                 return self.summary
             self.summary.joined = joined.report
+            self._owed_from = {(h.key, h.publisher_id): h.sequence + 1 for h in joined.report.after.hellos}
             self._writer = self._open_next()
             try:
                 self.ready.set()
@@ -387,6 +447,7 @@ class Recorder:
             except OSError as exc:  # a full disk, a file system gone read-only
                 failure = exc
             finally:
+                self._count_the_untold()
                 try:
                     self._finish_file()
                 except OSError as exc:
@@ -425,7 +486,7 @@ class Recorder:
                     if self._split:
                         self._maybe_split()
                 if stop.is_set() or (deadline is not None and now >= deadline):
-                    joined.flush(while_waiting=lambda: self._drain(sub, _DRAIN_BATCH))
+                    self._heard(joined.flush(while_waiting=lambda: self._drain(sub, _DRAIN_BATCH)))
                     # everything sent before the hello is in the channel now, behind at most its capacity
                     # (a bridge at speed 0 refills it as fast as it is drained: take no more than that)
                     self._drain(sub, c.queue_capacity)

@@ -3,8 +3,10 @@
 Every axisflow publisher answers queries on ``@axisflow/hello/<its key>/<its publisher id>`` (see
 :func:`.keys.hello_key`) with a :class:`Hello`. A subscriber that must not miss a sample asks before
 and after declaring itself (:mod:`axisflow.acquisition.bus.readiness` says why that proves the route);
-a second bridge asks who publishes its axis's samples, to name the first one. The record is JSON (it
-never lands in MCAP: the ``@axisflow`` chunk is verbatim, so no ``**`` subscription or query sees it).
+a second bridge asks who publishes its axis's samples, to name the first one. The answer carries the
+publisher's last sequence number at the moment it answered: what a recorder that joins owes from then
+on, and what one that stops was sent until then (:mod:`.last_sequences`). The record is JSON (it never
+lands in MCAP: the ``@axisflow`` chunk is verbatim, so no ``**`` subscription or query sees it).
 """
 
 from __future__ import annotations
@@ -31,6 +33,9 @@ class Hello:
     """the host name of its process"""
     pid: int
     """its process id"""
+    sequence: int
+    """the number of the last message it had put when it answered (0: none yet); every message up to
+    it left before the answer"""
 
     def encode(self) -> bytes:
         return json.dumps(asdict(self), separators=(",", ":")).encode()
@@ -47,7 +52,13 @@ class Hello:
                 raise WireError(f"hello field {name} = {getattr(hello, name)!r} is not a string")
         if not isinstance(hello.pid, int) or isinstance(hello.pid, bool) or hello.pid < 0:
             raise WireError(f"hello field pid = {hello.pid!r} is not a process id")
+        if not isinstance(hello.sequence, int) or isinstance(hello.sequence, bool) or hello.sequence < 0:
+            raise WireError(f"hello field sequence = {hello.sequence!r} is not a count >= 0")
         return hello
+
+    @property
+    def publisher_id(self) -> bytes:
+        return bytes.fromhex(self.publisher)
 
     @property
     def where(self) -> str:

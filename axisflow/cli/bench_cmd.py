@@ -13,10 +13,11 @@ from __future__ import annotations
 
 import argparse
 import ast
+import functools
 import importlib
 import importlib.util
 import tokenize
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 # benchmark modules under axisflow.benchmarks, by the name used on the command line
@@ -76,7 +77,14 @@ def add_benchmark(parser: argparse.ArgumentParser, module: str) -> None:
     mod = importlib.import_module(f"axisflow.benchmarks.{module}")
     parser.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
     mod.add_arguments(parser)
-    parser.set_defaults(func=mod.run, cli_verbs=_verbs)
+    parser.set_defaults(func=functools.partial(_measured, mod.run), cli_verbs=_verbs)
+
+
+def _measured(run: Callable[[argparse.Namespace], int], args: argparse.Namespace) -> int:
+    """A benchmark's run, with the machine reference measured in it (benchmarks/machine.py)."""
+    from ..benchmarks.machine import run_with_reference
+
+    return run_with_reference(run, args)
 
 
 def benchmark_docstring(module: str) -> str | None:

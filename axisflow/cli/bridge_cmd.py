@@ -16,6 +16,7 @@ from ..arguments import add_params_option, finite_float, params_from_args
 from ..deploy.processes import notify_ready, stop_on_signals
 from ..model import EXECUTION_PERIOD_NS, AxisflowError
 from ..nodes.bridge_stack import DRIVES
+from .timing_options import add_timing_options, timing_from_args
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 
 if TYPE_CHECKING:
@@ -103,6 +104,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="M",
         help=f"largest accepted start-position mismatch of a move [m] (default {DEFAULT_JUMP_TOLERANCE_M})",
     )
+    add_timing_options(p)
     p.add_argument("--json", action="store_true", help="print the report as one JSON object")
     add_zenoh_options(p)
     p.set_defaults(func=run)
@@ -147,6 +149,7 @@ def run(args: argparse.Namespace) -> int:
         duration_s=args.duration,
         wait_subscribers_s=args.wait_subscribers,
         jump_tolerance_m=args.jump_tolerance,
+        timing=timing_from_args(args),
     )
     options = zenoh_options_from_args(args)
 

@@ -21,11 +21,12 @@ import gc
 import threading
 from collections.abc import Callable
 from contextlib import ExitStack
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from ..acquisition.bridge.config import BridgeConfig
 from ..acquisition.bridge.continuity import DEFAULT_JUMP_TOLERANCE_M
+from ..acquisition.bridge.tick_clock import TickTiming
 from ..acquisition.bus.options import ZenohOptions
 from ..acquisition.wire.drive_info import DriveInfo
 from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
@@ -64,6 +65,8 @@ class BridgeStackSettings:
     """drive time to run [s]; None = until stopped"""
     wait_subscribers_s: float = 0.0
     jump_tolerance_m: float = DEFAULT_JUMP_TOLERANCE_M
+    timing: TickTiming = field(default_factory=TickTiming)
+    """the ticking thread's real-time priority and cores"""
 
 
 @dataclass(frozen=True)
@@ -121,6 +124,7 @@ def _bridge_config(settings: BridgeStackSettings, axis: str, drive: DriveInfo) -
         wait_subscribers_s=settings.wait_subscribers_s,
         jump_tolerance_m=settings.jump_tolerance_m,
         drive=drive,
+        timing=settings.timing,
     )
 
 

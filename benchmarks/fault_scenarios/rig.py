@@ -12,11 +12,15 @@ from typing import Any
 import zenoh
 
 from ...acquisition import AxisKeys, MoveState, MoveStatus, ZenohOptions, is_complete, load_plant
+from ...acquisition.bridge.tick_clock import fifo_allowed
 from ...acquisition.bus.readiness import JoinedSubscriber, say_hello
 from ...deploy.processes import READY_TIMEOUT_S, Child, Exited, Launcher, free_port, wait_until
 from ...model import AxisParams, default_params
 from ..toolkit.proc_stats import status_kb
 from .ticks import KEYS, SETPOINT_TOPIC, STATE_TOPIC, TickRecord, tick_record
+
+RT_PRIORITY = 50
+"""the SCHED_FIFO priority of a scenario's bridge, where allowed (docs/acquisition.md)"""
 
 
 def rss_mb(pid: int) -> float:
@@ -51,12 +55,16 @@ class Rig:
 
     def start_bridge(self, name: str = "bridge", *extra: str) -> Child:
         """``axisflow bridge --sim --json`` at 1× real time, waiting for the recorder's subscription
-        before its first tick; ready (it holds its token) when this returns."""
+        before its first tick; ready (it holds its token) when this returns. Its ticking thread runs at
+        real-time priority where the system allows it (:data:`RT_PRIORITY`), as a bridge on a real
+        bus would: the scenarios measure what a fault does to its loop, not what other processes on a
+        loaded machine do."""
         self.bridge_ports.append(free_port())
         listen = f"tcp/127.0.0.1:{self.bridge_ports[-1]}"
+        real_time = ("--rt-priority", str(RT_PRIORITY)) if fifo_allowed(RT_PRIORITY) else ()
         proc = self.launcher.start(
             name, "bridge", "--sim", "--json", "--wait-subscribers", "10",
-            "--connect", self.recorder_endpoint, "--listen", listen, *extra, ready=True,
+            "--connect", self.recorder_endpoint, "--listen", listen, *real_time, *extra, ready=True,
         )  # fmt: skip
         self.launcher.wait_ready(proc, READY_TIMEOUT_S)
         return proc

@@ -4,9 +4,12 @@ of their own, as bridges would publish them (the pipeline, cell and view benchma
 Each tick, each axis's ``state`` (and, with ``--setpoints``, its ``setpoint``) goes out as a JointState
 pre-encoded once, with only its stamp patched (the wall clock), through a numbered publisher; at
 ``--speed`` > 0 on a real-time 1 kHz schedule, at 0 as fast as the subscribers take them (blocking
-congestion control). The process waits up to 15 s for a subscriber first, and prints one JSON line:
-``matched``, ``ticks``, ``axes``, ``published``, ``wall_s``, ``late_ticks`` (started more than 2 ms
-late) and ``cpu_s`` (its own CPU time while it published).
+congestion control). The process waits up to 15 s for a subscriber first; once it has put its last
+sample it says so (the launcher's ready byte, when started with ``ready=True``), then waits up to
+:data:`CONFIRM_S` for the receipts of the joined subscribers, which learn its last sequence numbers from
+them; it prints one JSON line: ``matched``, ``ticks``, ``axes``, ``published``, ``wall_s``,
+``late_ticks`` (started more than 2 ms late), ``cpu_s`` (its own CPU time while it published) and
+``confirmed`` (whether every receipt came back).
 
 Start it with :data:`ENTRY` and :func:`arguments` through the launcher
 (:meth:`~axisflow.deploy.processes.Launcher.start`).
@@ -25,6 +28,9 @@ ENTRY = "axisflow.benchmarks.toolkit.synthetic_publisher:main"
 """the launcher's entry point of the publisher process"""
 STAMP = struct.Struct("<iI")
 """header.stamp (sec, nanosec), at offset 4 of a CDR JointState"""
+CONFIRM_S = 30.0
+"""how long the publisher waits for its receipts before it closes its session [s]: a recorder that
+was starved may need a while to take its backlog, and the tail it has not taken is lost at the close"""
 
 
 def arguments(
@@ -69,7 +75,14 @@ def play(pubs: list, templates: list[bytearray], n_ticks: int, paced: bool) -> t
 def main() -> None:
     """Entry of the publisher process (its options: :func:`arguments`); prints one JSON line."""
     from axisflow.acquisition import AxisKeys, ZenohOptions, open_session
-    from axisflow.acquisition.bus.publisher import SequencedPublisher, Traffic, wait_for_subscribers
+    from axisflow.acquisition.bus.publisher import (
+        SequencedPublisher,
+        Traffic,
+        confirm_delivered,
+        wait_for_subscribers,
+    )
+
+    from axisflow.deploy.processes import notify_ready
 
     parser = argparse.ArgumentParser(prog="synthetic_publisher")
     parser.add_argument("--connect", required=True)
@@ -92,8 +105,11 @@ def main() -> None:
         cpu0 = time.process_time()
         wall, late = play(pubs, templates, n_ticks, paced=args.speed > 0)
         cpu_s = time.process_time() - cpu0
+        notify_ready()
+        confirmed = confirm_delivered(session, pubs, CONFIRM_S)
         for pub in pubs:
             pub.undeclare()
     published = n_ticks * len(pubs)
     print(json.dumps({"matched": matched, "ticks": n_ticks, "axes": args.axes, "published": published,
-                      "wall_s": wall, "late_ticks": late, "cpu_s": cpu_s}))  # fmt: skip
+                      "wall_s": wall, "late_ticks": late, "cpu_s": cpu_s,
+                      "confirmed": confirmed}))  # fmt: skip

@@ -118,8 +118,11 @@ def test_pipeline_benchmark_smoke(cli):
     )  # fmt: skip
     assert result.returncode == 0, result.stderr
     r = json.loads(result.stdout)
-    assert r["steps"][0]["axes"] == 2 and r["steps"][0]["lost"] == 0
-    assert r["max_axes_zero_loss"] == 2
+    step = r["steps"][0]
+    assert step["axes"] == 2 and step["lost"] == 0
+    # the figure follows the step's verdict (whether a loaded machine's recorder kept up within 100 ms at
+    # p99 is the benchmark's finding, not this test's)
+    assert r["max_axes_zero_loss"] == (2 if step["zero_loss"] and step["keeps_up"] else 0)
     flood = r["recorder_flood"]
     assert flood["lost"] == 0 and flood["messages"] == 2 * 4000 and len(flood["rounds"]) == 2
     assert flood["ratio_min"] * 0.9999 <= flood["ratio_to_baseline"] <= flood["ratio_max"] * 1.0001

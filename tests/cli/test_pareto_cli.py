@@ -87,7 +87,7 @@ def test_experiment_with_the_exact_solver_is_no_worse_than_ipopt(tmp_path, capsy
 def test_bench_planner_json_shape(capsys):
     assert main(["bench", "planner", "--moves", "60", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
-    assert set(data) == {"moves", "exact", "ipopt", "speedup_p50"}
+    assert set(data) == {"moves", "exact", "ipopt", "speedup_p50", "machine_reference"}
     assert data["moves"] == 60
     for solver in ("exact", "ipopt"):
         assert set(data[solver]) == {"p50_us", "p99_us"}

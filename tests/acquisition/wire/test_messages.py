@@ -298,18 +298,44 @@ def test_drive_info_round_trip_and_reference_codec():
 def test_a_hello_round_trips_and_refuses_what_is_not_one():
     from axisflow.acquisition.wire.hello import Hello
 
-    hello = Hello("axisflow/a0/state", "ab" * 16, "0123456789abcdef", "host-1", 4242)
+    hello = Hello("axisflow/a0/state", "ab" * 16, "0123456789abcdef", "host-1", 4242, 31_337)
     assert Hello.decode(hello.encode()) == hello
     assert hello.where == "pid 4242 on host host-1 (Zenoh id 0123456789abcdef)"
+    assert hello.publisher_id == b"\xab" * 16
     for bad, says in (
         (b"not json", "undecodable hello"),
         (b"[1, 2]", "undecodable hello"),
         (b'{"key": "k"}', "undecodable hello"),
         (hello.encode().replace(b"4242", b"-1"), "pid = -1"),
         (hello.encode().replace(b'"host-1"', b"7"), "host = 7"),
+        (hello.encode().replace(b"31337", b"-3"), "sequence = -3"),
+        (hello.encode().replace(b"31337", b"true"), "sequence = True"),
     ):
         with pytest.raises(WireError, match=says):
             Hello.decode(bad)
+
+
+def test_last_sequence_numbers_round_trip_and_refuse_what_is_not_them():
+    from axisflow.acquisition.wire.last_sequences import LastSequence, LastSequences
+
+    state, other = LastSequence("axisflow/a0/state", "ab" * 16, 8000), LastSequence("k/x", "cd" * 16, 0)
+    record = LastSequences((state, other))
+    assert LastSequences.decode(record.encode()) == record
+    assert record.publishers[1].publisher_id == b"\xcd" * 16
+    assert LastSequences.decode(LastSequences(()).encode()) == LastSequences(())
+    good = record.encode()
+    for bad, says in (
+        (b"not json", "undecodable last sequence"),
+        (b'{"other": []}', "undecodable last sequence"),
+        (b'{"last_sequences": [["k", "ab"]]}', "undecodable last sequence"),
+        (good.replace(b"8000", b"-1"), "sequence -1 is not a count"),
+        (good.replace(b"8000", b"1.5"), "sequence 1.5 is not a count"),
+        (good.replace(b'"axisflow/a0/state"', b'""'), "key '' is not a key"),
+        (good.replace(b"ab" * 16, b"ab" * 15), "is not a 16-byte id"),
+        (good.replace(b"ab" * 16, b"zz" * 16), "is not a 16-byte id"),
+    ):
+        with pytest.raises(WireError, match=says):
+            LastSequences.decode(bad)
 
 
 def test_a_plan_record_carries_its_parameter_version_and_one_written_before_it_decodes_with_zero():

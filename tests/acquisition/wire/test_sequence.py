@@ -61,3 +61,52 @@ def test_a_lossy_stream_with_a_known_count_of_losses():
         t.add(A, s)
     assert t.missed == int(lost.sum())
     assert t.publishers[A].messages == int((~lost).sum())
+
+
+def test_the_last_number_a_publisher_said_counts_the_tail_no_gap_shows():
+    t = SequenceTracker()
+    for s in (1, 2, 4, 5):
+        t.add(A, s)
+    for s in (1, 2, 3):
+        t.add(B, s)
+    assert (t.missed, t.untold) == (1, 2)
+    t.said(A, 9)  # 6..9 never arrived: no message after them shows the gap
+    t.said(B, 3)  # everything arrived
+    t.said(A, 7)  # an older word changes nothing
+    a, b = t.publishers[A], t.publishers[B]
+    assert (a.gaps, a.tail, a.missed, b.tail, b.missed) == (1, 4, 5, 0, 0)
+    assert (t.gaps, t.missed, t.untold) == (1, 5, 0)
+
+
+def test_a_publisher_expected_at_the_join_that_got_nothing_through_owes_all_it_said_after_it():
+    t = SequenceTracker()
+    t.said(A, 40)  # neither received nor expected: where its due began is not known
+    t.expect(B, 101)  # it had sent 100 when the receiver joined
+    t.said(B, 130)
+    assert A not in t.publishers
+    assert (t.publishers[B].missed, t.messages, t.missed, t.untold) == (30, 0, 30, 0)
+
+
+def test_the_number_a_publisher_had_at_the_join_counts_the_head_no_gap_shows():
+    t = SequenceTracker()
+    for s in (13, 14, 15):
+        t.add(A, s)
+    for s in (8, 9, 10):  # arrived from before the join (a route that was not owed yet): nothing lost
+        t.add(B, s)
+    t.expect(A, 11)
+    t.expect(B, 10)
+    assert (t.publishers[A].head, t.publishers[B].head, t.missed) == (2, 0, 2)
+
+
+def test_a_lossy_stream_whose_first_and_last_were_lost_too_is_counted_whole():
+    rng = np.random.default_rng(4)
+    sent = np.arange(1, 20_001)
+    lost = rng.random(sent.size) < 0.02
+    lost[:3] = lost[-50:] = True
+    t = SequenceTracker()
+    for s in sent[~lost].tolist():
+        t.add(A, s)
+    t.expect(A, 1)
+    t.said(A, int(sent[-1]))
+    assert t.missed == int(lost.sum())
+    assert t.messages + t.missed == sent.size
