@@ -20,10 +20,7 @@ from pathlib import Path
 import pytest
 from axisflow.acquisition.logs.synthetic_log import SyntheticLogSpec, write_synthetic_log
 
-# a module fixture of several seconds: the whole module is in the slow tier; and a stop bounded to 2 s of
-# wall time runs alone, with the heavy tests (beside another test's processes on a loaded machine, a
-# SIGINT took longer than that to end view, recover and identify)
-pytestmark = [pytest.mark.slow, pytest.mark.heavy]
+pytestmark = pytest.mark.slow  # a module fixture of several seconds: the whole module is in the slow tier
 
 CLI = [sys.executable, "-c", "import sys; from axisflow.cli import main; sys.exit(main())"]
 ENV = {**os.environ, "CI": "1", "RUST_LOG": "error"}
