@@ -39,6 +39,13 @@ def logs(tmp_path_factory) -> tuple[Path, Path]:
     return first, folder / "b.mcap"
 
 
+def _terminal_sigint() -> None:
+    """In the child before it runs: SIGINT as a program started from a terminal has it. A test run
+    started in the background of a script ignores SIGINT, and a child inherits that (Python then
+    installs no KeyboardInterrupt for it): the SIGINT cases would measure how the tests were started."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _start(*args: str | Path, cwd: Path) -> subprocess.Popen:
     return subprocess.Popen(
         [*CLI, *map(str, args)],
@@ -47,6 +54,7 @@ def _start(*args: str | Path, cwd: Path) -> subprocess.Popen:
         text=True,
         env=ENV,
         cwd=cwd,
+        preexec_fn=_terminal_sigint,
     )
 
 
