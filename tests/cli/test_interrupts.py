@@ -20,10 +20,7 @@ from pathlib import Path
 import pytest
 from axisflow.acquisition.logs.synthetic_log import SyntheticLogSpec, write_synthetic_log
 
-# a module fixture of several seconds: the whole module is in the slow tier; and a stop bounded to 2 s of
-# wall time runs alone, with the heavy tests (beside another test's processes on a loaded machine, a
-# SIGINT took longer than that to end view, recover and identify)
-pytestmark = [pytest.mark.slow, pytest.mark.heavy]
+pytestmark = pytest.mark.slow  # a module fixture of several seconds: the whole module is in the slow tier
 
 CLI = [sys.executable, "-c", "import sys; from axisflow.cli import main; sys.exit(main())"]
 ENV = {**os.environ, "CI": "1", "RUST_LOG": "error"}
@@ -42,6 +39,13 @@ def logs(tmp_path_factory) -> tuple[Path, Path]:
     return first, folder / "b.mcap"
 
 
+def _terminal_sigint() -> None:
+    """In the child before it runs: SIGINT as a program started from a terminal has it. A test run
+    started in the background of a script ignores SIGINT, and a child inherits that (Python then
+    installs no KeyboardInterrupt for it): the SIGINT cases would measure how the tests were started."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _start(*args: str | Path, cwd: Path) -> subprocess.Popen:
     return subprocess.Popen(
         [*CLI, *map(str, args)],
@@ -50,6 +54,7 @@ def _start(*args: str | Path, cwd: Path) -> subprocess.Popen:
         text=True,
         env=ENV,
         cwd=cwd,
+        preexec_fn=_terminal_sigint,
     )
 
 

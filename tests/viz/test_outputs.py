@@ -41,7 +41,8 @@ import time
 import rerun as rr
 import axisflow.viz.outputs
 
-# Ctrl-C as a terminal's program has it, whatever the test process left its children (a pytest worker)
+# Ctrl-C as a terminal's program has it (a test run started in the background of a script ignores
+# SIGINT, and its children inherit that)
 signal.signal(signal.SIGINT, signal.default_int_handler)
 signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
 print(open("/proc/self/status").read(), file=sys.stderr)  # (what the process's signals were, if it fails)
