@@ -24,18 +24,18 @@ from contextlib import ExitStack
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from ..acquisition.bridge.config import BridgeConfig
 from ..acquisition.bridge.continuity import DEFAULT_JUMP_TOLERANCE_M
 from ..acquisition.bus.options import ZenohOptions
-from ..acquisition.wire.drive_info import DriveInfo
 from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
 from ..model import AxisflowError, AxisParams
 
-if TYPE_CHECKING:
+if TYPE_CHECKING:  # the command line's parser takes DRIVES from here: the rest loads when a stack runs
+    from ..acquisition.bridge.config import BridgeConfig
     from ..acquisition.bridge.report import BridgeReport
     from ..acquisition.drives.canopen.config import DriveConfig
     from ..acquisition.drives.canopen.cycle import CycleReport
     from ..acquisition.drives.plant import PlantConfig
+    from ..acquisition.wire.drive_info import DriveInfo
 
 DRIVES = ("sim", "canopen", "canopen-sim")
 
@@ -114,6 +114,8 @@ def _plant(settings: BridgeStackSettings, params: AxisParams) -> PlantConfig:
 
 
 def _bridge_config(settings: BridgeStackSettings, axis: str, drive: DriveInfo) -> BridgeConfig:
+    from ..acquisition.bridge.config import BridgeConfig
+
     return BridgeConfig(
         keys=AxisKeys(axis, settings.prefix),
         speed=settings.speed,
@@ -134,7 +136,7 @@ def _run_simulated_axis(
     from ..acquisition.bridge.bridge import Bridge
     from ..acquisition.bus.session import open_session
     from ..acquisition.drives.sim_axis import SimulatedAxis
-    from ..acquisition.wire.drive_info import SIMULATED
+    from ..acquisition.wire.drive_info import SIMULATED, DriveInfo
 
     axis = settings.axis
     plant = _plant(settings, params)
@@ -171,6 +173,7 @@ def _run_canopen(
     from ..acquisition.bus.session import open_session
     from ..acquisition.drives.canopen.master import open_master
     from ..acquisition.drives.canopen.sim_drive import SimulatedDrive
+    from ..acquisition.wire.drive_info import DriveInfo
 
     with ExitStack() as stack:
         if plant is not None:
