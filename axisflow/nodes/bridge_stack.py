@@ -28,8 +28,9 @@ from ..acquisition.bridge.continuity import DEFAULT_JUMP_TOLERANCE_M
 from ..acquisition.bus.options import ZenohOptions
 from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
 from ..model import AxisflowError, AxisParams
+from .drive_kinds import DRIVES
 
-if TYPE_CHECKING:  # the command line's parser takes DRIVES from here: the rest loads when a stack runs
+if TYPE_CHECKING:  # loaded when a stack runs
     from ..acquisition.bridge.config import BridgeConfig
     from ..acquisition.bridge.report import BridgeReport
     from ..acquisition.drives.canopen.config import DriveConfig
@@ -37,15 +38,13 @@ if TYPE_CHECKING:  # the command line's parser takes DRIVES from here: the rest 
     from ..acquisition.drives.plant import PlantConfig
     from ..acquisition.wire.drive_info import DriveInfo
 
-DRIVES = ("sim", "canopen", "canopen-sim")
-
 
 @dataclass(frozen=True)
 class BridgeStackSettings:
     """What ``axisflow bridge`` runs."""
 
     drive: str = "sim"
-    """one of :data:`DRIVES`"""
+    """one of :data:`~.drive_kinds.DRIVES`"""
     drive_config: str | None = None
     """drive.toml: the CAN bus and its drives (``canopen``, ``canopen-sim``)"""
     reset_fault: bool = False
@@ -64,6 +63,10 @@ class BridgeStackSettings:
     """drive time to run [s]; None = until stopped"""
     wait_subscribers_s: float = 0.0
     jump_tolerance_m: float = DEFAULT_JUMP_TOLERANCE_M
+
+    def __post_init__(self) -> None:
+        if self.drive not in DRIVES:
+            raise AxisflowError(f"drive {self.drive!r} is not one of {', '.join(DRIVES)}")
 
 
 @dataclass(frozen=True)
