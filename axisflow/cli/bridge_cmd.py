@@ -15,7 +15,7 @@ from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX
 from ..arguments import add_params_option, finite_float, params_from_args
 from ..deploy.processes import notify_ready, stop_on_signals
 from ..model import EXECUTION_PERIOD_NS, AxisflowError
-from ..nodes.bridge_stack import DRIVES
+from ..nodes.drive_kinds import DRIVES
 from .timing_options import add_timing_options, timing_from_args
 from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 

@@ -24,21 +24,20 @@ from contextlib import ExitStack
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-from ..acquisition.bridge.config import BridgeConfig
 from ..acquisition.bridge.continuity import DEFAULT_JUMP_TOLERANCE_M
 from ..acquisition.bridge.tick_clock import TickTiming
 from ..acquisition.bus.options import ZenohOptions
-from ..acquisition.wire.drive_info import DriveInfo
 from ..acquisition.wire.keys import DEFAULT_AXIS, DEFAULT_PREFIX, AxisKeys
 from ..model import AxisflowError, AxisParams
+from .drive_kinds import DRIVES
 
-if TYPE_CHECKING:
+if TYPE_CHECKING:  # loaded when a stack runs
+    from ..acquisition.bridge.config import BridgeConfig
     from ..acquisition.bridge.report import BridgeReport
     from ..acquisition.drives.canopen.config import DriveConfig
     from ..acquisition.drives.canopen.cycle import CycleReport
     from ..acquisition.drives.plant import PlantConfig
-
-DRIVES = ("sim", "canopen", "canopen-sim")
+    from ..acquisition.wire.drive_info import DriveInfo
 
 
 @dataclass(frozen=True)
@@ -46,7 +45,7 @@ class BridgeStackSettings:
     """What ``axisflow bridge`` runs."""
 
     drive: str = "sim"
-    """one of :data:`DRIVES`"""
+    """one of :data:`~.drive_kinds.DRIVES`"""
     drive_config: str | None = None
     """drive.toml: the CAN bus and its drives (``canopen``, ``canopen-sim``)"""
     reset_fault: bool = False
@@ -67,6 +66,10 @@ class BridgeStackSettings:
     jump_tolerance_m: float = DEFAULT_JUMP_TOLERANCE_M
     timing: TickTiming = field(default_factory=TickTiming)
     """the ticking thread's real-time priority and cores"""
+
+    def __post_init__(self) -> None:
+        if self.drive not in DRIVES:
+            raise AxisflowError(f"drive {self.drive!r} is not one of {', '.join(DRIVES)}")
 
 
 @dataclass(frozen=True)
@@ -117,6 +120,8 @@ def _plant(settings: BridgeStackSettings, params: AxisParams) -> PlantConfig:
 
 
 def _bridge_config(settings: BridgeStackSettings, axis: str, drive: DriveInfo) -> BridgeConfig:
+    from ..acquisition.bridge.config import BridgeConfig
+
     return BridgeConfig(
         keys=AxisKeys(axis, settings.prefix),
         speed=settings.speed,
@@ -138,7 +143,7 @@ def _run_simulated_axis(
     from ..acquisition.bridge.bridge import Bridge
     from ..acquisition.bus.session import open_session
     from ..acquisition.drives.sim_axis import SimulatedAxis
-    from ..acquisition.wire.drive_info import SIMULATED
+    from ..acquisition.wire.drive_info import SIMULATED, DriveInfo
 
     axis = settings.axis
     plant = _plant(settings, params)
@@ -175,6 +180,7 @@ def _run_canopen(
     from ..acquisition.bus.session import open_session
     from ..acquisition.drives.canopen.master import open_master
     from ..acquisition.drives.canopen.sim_drive import SimulatedDrive
+    from ..acquisition.wire.drive_info import DriveInfo
 
     with ExitStack() as stack:
         if plant is not None:
