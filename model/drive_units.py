@@ -66,7 +66,8 @@ class DriveUnits:
     """reduction ratio (motor revolutions per revolution of the driven element: pulley, screw, pinion)"""
     r: float
     """carriage travel per radian of the driven element [m]: a pulley's or pinion's radius, a screw's
-    lead/2π, 1 for a linear motor (whose "revolution" is 2π m of travel)"""
+    lead/2π, a linear motor's scale period/2π (its encoder counts ``counts_per_rev`` over
+    :data:`~axisflow.model.transmission.LINEAR_SCALE_PERIOD_M` of travel, as :mod:`.encoder` has it)"""
     zero_counts: int = 0
     """the position count at x = 0 (a drive's counts start wherever it was switched on or homed)"""
     direction: int = 1
@@ -101,8 +102,9 @@ class DriveUnits:
         zero_counts: int = 0,
         direction: int = 1,
     ) -> DriveUnits:
-        """The units of a drive on the axis of ``params`` (its transmission's i_r and travel per radian of
-        the driven element)."""
+        """The units of a drive on the axis of ``params``: its transmission's i_r (1 for a linear motor)
+        and the driven element's travel per turn over 2π (:attr:`r`; the transmission's
+        ``output_travel_m``: 2π·r of a pulley or pinion, a screw's lead, a linear motor's scale period)."""
         k = params.transmission
         i_r = getattr(k, "i_r", 1.0)
         per_radian = k.output_travel_m / (2.0 * math.pi) if not hasattr(k, "r") else k.r

@@ -19,10 +19,12 @@ by the plot that shows it::
     axes/<label>/energy/measured       ∫ g(τ_m·ω_m) dt over each move's ticks [J]  Scalars (points)
     axes/<label>/energy/planned        the plan's model energy E_th [J]            Scalars (points)
     axes/<label>/energy_error          E% = (E_th − E_exp)/E_th of each move [%]   Scalars (points)
-    axes/<label>/params/<name>         an adaptive node's accepted M_eq, a1…a4, in
-                                       % of its version 0, with ±σ (three series)  Scalars
+    axes/<label>/params/<name>         an adaptive node's accepted M_eq, a1…a4, f0,
+                                       da1, da2 (those not 0 in its version 0), in
+                                       % of version 0, with ±σ (three series)      Scalars
     axes/<label>/params/rejected/<name> estimates it turned down, the same units   Scalars (points)
-    axes/<label>/friction/now          F_c(ẋ) [N] over ±v_max of the accepted set  LineStrips2D
+    axes/<label>/friction/now          F_c(ẋ) [N] over ±v_max of the accepted set
+                                       (both directions, f0 at rest)               LineStrips2D
     axes/<label>/friction/start        F_c(ẋ) [N] of version 0                     LineStrips2D
     axes/<label>/events                the bridge's move statuses                  TextLog
 

@@ -10,7 +10,6 @@ they are in the messages (float64), so a recording read back equals its log.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import numpy as np
 import rerun as rr
@@ -18,7 +17,7 @@ import rerun as rr
 from ..acquisition.wire.move_status import MoveState, MoveStatus
 from ..acquisition.wire.params_estimate import PARAMETER_NAMES, ParamsEstimate
 from ..acquisition.wire.plan_record import PlanRecord
-from ..model import AxisParams, friction_force
+from ..model import AxisParams
 from .entities import TIMELINE, AxisEntities
 from .moves import MoveLedger, MovePoint, MovePoints
 from .samples import AxisSamples
@@ -43,9 +42,12 @@ PARAMETER_COLOURS = {
     "a2": (214, 39, 40),
     "a3": (44, 160, 44),
     "a4": (148, 103, 189),
+    "f0": (127, 127, 127),
+    "da1": (23, 190, 207),
+    "da2": (188, 189, 34),
 }
-FRICTION_POINTS = 201
-"""points of a friction curve F_c(ẋ) over [−v_max, v_max]"""
+FRICTION_POINTS = 101
+"""points of each direction's branch of a friction curve F_c(ẋ), from rest to v_max"""
 _LEVELS = {
     MoveState.ACCEPTED: rr.TextLogLevel.INFO,
     MoveState.STARTED: rr.TextLogLevel.DEBUG,
@@ -159,9 +161,16 @@ def log_move_points(rec: rr.RecordingStream, e: AxisEntities, points: MovePoints
     _send_points(rec, e.energy_error, points.energy_error)
 
 
-def log_parameter_styles(rec: rr.RecordingStream, e: AxisEntities) -> None:
-    """Names and colours of the adapted parameters' series (static)."""
-    for name, colour in PARAMETER_COLOURS.items():
+def drawn_parameters(start: ParamsEstimate) -> tuple[str, ...]:
+    """The parameters an adaptive node's estimates are drawn for: those not zero in its version 0
+    ``start`` (each is drawn in % of it; a term that is off, an axis without an offset say, has none)."""
+    return tuple(name for name in PARAMETER_NAMES if start.value_of[name])
+
+
+def log_parameter_styles(rec: rr.RecordingStream, e: AxisEntities, start: ParamsEstimate) -> None:
+    """Names and colours of the adapted parameters' series (static), those of :func:`drawn_parameters`."""
+    for name in drawn_parameters(start):
+        colour = PARAMETER_COLOURS[name]
         names = [name, f"{name} + σ", f"{name} − σ"]
         rec.log(
             e.parameter(name),
@@ -179,9 +188,10 @@ def log_parameters(
     rec: rr.RecordingStream, e: AxisEntities, records: Sequence[ParamsEstimate], start: ParamsEstimate
 ) -> None:
     """An adaptive node's estimates over time, each parameter in % of version 0 (``start``): the accepted
-    ones with their ±σ band (three series), the turned-down ones as points (at the window's end)."""
+    ones with their ±σ band (three series), the turned-down ones as points (at the window's end); the
+    parameters of :func:`drawn_parameters`."""
     base = start.value_of
-    for name in PARAMETER_NAMES:
+    for name in drawn_parameters(start):
         accepted = [r for r in records if r.accepted and np.isfinite(r.value_of[name])]
         if accepted:
             stamps = np.array([r.stamp_ns for r in accepted], np.int64)
@@ -197,21 +207,17 @@ def log_parameters(
 
 
 def friction_curve(record: ParamsEstimate, v_max: float) -> np.ndarray:
-    """(n, 2): F_c(ẋ) [N] of a record's a1…a4 at n speeds over [−v_max, v_max] [m/s]."""
-    values = record.value_of
-    v = np.linspace(-v_max, v_max, FRICTION_POINTS)
-    law = _Friction(values["a1"], values["a2"], values["a3"], values["a4"])
-    return np.column_stack([v, friction_force(v, law)])
-
-
-@dataclass(frozen=True)
-class _Friction:
-    """a1…a4 of eq. (1), what :func:`~axisflow.model.friction_force` reads."""
-
-    a1: float
-    a2: float
-    a3: float
-    a4: float
+    """(2n + 1, 2): F_c(ẋ) [N] over ẋ in [−v_max, v_max] [m/s] of a record's whole friction law
+    (:mod:`axisflow.model.friction`, the offset and asymmetry included), one strip through both
+    directions: moving towards −x, −φ₋(|ẋ|) up to rest; at rest, f0; moving towards +x, φ₊(ẋ)
+    from rest. The Coulomb step at ẋ = 0 is drawn as the vertical segment through f0 that joins
+    the two directions' limits."""
+    law = record.friction
+    v = np.linspace(0.0, v_max, FRICTION_POINTS)
+    backward = -law.forward(-1.0).value(v)[::-1]
+    forward = law.forward(1.0).value(v)
+    speeds = np.concatenate([-v[::-1], [0.0], v])
+    return np.column_stack([speeds, np.concatenate([backward, law.force(0.0)[None], forward])])
 
 
 def log_friction(
@@ -311,7 +317,7 @@ class AxisScene:
                 self._early += records
                 return
             self._start = initial[0]
-            log_parameter_styles(self.rec, e)
+            log_parameter_styles(self.rec, e, self._start)
             records, self._early = [*self._early, *records], []
         log_parameters(self.rec, e, records, self._start)
         for record in records:

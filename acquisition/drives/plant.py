@@ -325,7 +325,8 @@ class PlantConfig:
     thermal: ThermalConfig | None = None
     wear: WearConfig | None = None
     scale: dict[str, float] = field(default_factory=dict)
-    """the ``[scale]`` factors the true axis was made with (empty for an ``[axis]`` table)"""
+    """the ``[scale]`` factors the true axis was made with (empty for an ``[axis]`` table; without a
+    factor on a part its transmission does not have)"""
 
     def __post_init__(self) -> None:
         x0 = self.simulation.initial_position_m
@@ -388,6 +389,8 @@ def _section(name: str, cls: type, data: Any, source: str) -> Any:
 
 SCALABLE = ("m", "J_m", "J_g", "J_p", "a1", "a2", "a3", "a4")
 """the true-axis keys a ``[scale]`` table may scale"""
+_ROTATING = frozenset({"J_m", "J_g", "J_p"})
+"""the keys of :data:`SCALABLE` that belong to a transmission, which not every kind has"""
 
 
 def _true_axis(data: dict[str, Any], nominal: AxisParams, source: str) -> tuple[AxisParams, dict[str, float]]:
@@ -410,11 +413,17 @@ def _true_axis(data: dict[str, Any], nominal: AxisParams, source: str) -> tuple[
     for key, value in factors.items():
         if isinstance(value, bool) or not isinstance(value, int | float) or not 0.0 < value < math.inf:
             raise PlantError(f"{source}: [scale] {key} = {value!r} must be a finite factor > 0")
+    # a factor on a part the transmission does not have (a linear motor's rotor and gearbox, a screw
+    # axis's pulley) scales nothing, as a factor on a term that is off does: the packaged profiles
+    # scale the rotor of every kind that has one
+    applied = {
+        k: float(v) for k, v in factors.items() if k not in _ROTATING or k in nominal.transmission.keys
+    }
     try:
-        axis = nominal.replace(**{k: getattr(nominal, k) * v for k, v in factors.items()})
+        axis = nominal.replace(**{k: getattr(nominal, k) * v for k, v in applied.items()})
     except AxisflowError as exc:
         raise PlantError(f"{source}: {exc}") from None
-    return axis, {k: float(v) for k, v in factors.items()}
+    return axis, applied
 
 
 _REPLACES = {"axis": "scale", "scale": "axis", "drive": "encoder"}

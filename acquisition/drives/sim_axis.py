@@ -27,7 +27,9 @@ low-pass (``velocity_filter_hz``); the motor torque is the applied torque plus w
   (``[torque_sensor] noise_std_nm``); cogging is torque on the rotor the current does not show;
 * ``[cogging]``: Σ A·sin(n·θ_m + φ) on the rotor, averaged over each tick's travel of the motor angle
   (a sinc factor: no aliasing at speed);
-* ``[belt]``: the two-mass axis (:class:`~.mechanics.BeltAxis`): the encoder is on the motor side;
+* ``[belt]``: the two-mass axis (:class:`~.mechanics.BeltAxis`): the encoder is on the motor side; an
+  axis with no rotating parts (a linear motor: its coil moves with the carriage) has no mass on the
+  motor side of a belt and stays rigid;
 * ``[stroke_friction]``, ``[thermal]``, ``[wear]``: the friction of this tick, from
   :class:`~.friction_drift.FrictionDrift`; :meth:`SimulatedAxis.true_params` gives its present values;
 * ``[sample_clock]``: each sample's stamp is its tick's time plus a uniform error within ±jitter, and a
@@ -141,9 +143,11 @@ class SimulatedAxis(AlwaysReady):
             self._v_meas = 0.0
         else:
             self._real = _DriveSignals(plant, nominal)
+            rotating = p.transmission.reflected_mass_kg() > 0.0  # a linear motor has no belt (docstring)
+            belt = plant.belt if rotating else None
             self._mech = (
-                BeltAxis(p, plant.belt, plant.simulation.substeps, x0)
-                if plant.belt is not None
+                BeltAxis(p, belt, plant.simulation.substeps, x0)
+                if belt is not None
                 else RigidAxis(p, plant.simulation.substeps, x0)
             )
             self._drift = FrictionDrift(p, plant.stroke_friction, plant.thermal, plant.wear)

@@ -11,9 +11,15 @@ plans every next move with the newest accepted set and records its version in ea
 
 Version 0 is the node's starting set (decision ``initial``); each accepted estimate is the version
 before it + 1; a rejected one carries the version that stays in force (``version`` = ``base_version``).
-The values are eq. (1)'s M_eq and a1…a4 (SI units): for an accepted record the new set, for a rejected
-one the estimate that was turned down (NaN where the fit gave none). A σ is NaN for a parameter the
-window did not estimate (held at its accepted value).
+The values are M_eq and the whole friction law of :mod:`axisflow.model.friction` (SI units): eq. (1)'s
+a1…a4 and the terms beside it, the offset f0 and the asymmetry da1, da2 — a term fitted is a term
+planned with. For an accepted record they are the new set, for a rejected one the estimate that was
+turned down (NaN where the fit gave none). A σ is NaN for a parameter the window did not estimate (held
+at its accepted value). A term whose values are zero is off.
+
+f0, da1, da2 and their σ are the message's last fields: a shorter record, whose payload ends after
+``holdout_rms_kept_nm`` (an older node's), reads with f0 = da1 = da2 = 0 — those terms off — and their
+σ NaN.
 """
 
 from __future__ import annotations
@@ -22,13 +28,16 @@ import math
 from dataclasses import dataclass
 from enum import StrEnum
 
-from ...model import AxisParams
+from ...model import AxisParams, FrictionLaw
+from ...model.terms import PAPER_TERMS
 from ..errors import WireError
 from .cdr import HEADER_DEPENDENCIES, CdrReader, CdrWriter, read_time, schema_with_dependencies, write_time
 
 PARAMS_ESTIMATE_TYPE = "axisflow_msgs/msg/ParamsEstimate"
-PARAMETER_NAMES = ("M_eq", "a1", "a2", "a3", "a4")
-"""the parameters of eq. (1) an estimate carries, in wire order"""
+PARAMETER_NAMES = ("M_eq", "a1", "a2", "a3", "a4", "f0", "da1", "da2")
+"""the parameters an estimate carries, in wire order: eq. (1)'s, then the terms beside it"""
+PAPER_NAMES = PARAMETER_NAMES[:5]
+"""eq. (1)'s: what a record of five values gives (the offset and asymmetry then off)"""
 
 
 class Decision(StrEnum):
@@ -89,11 +98,22 @@ PARAMS_ESTIMATE_SCHEMA = schema_with_dependencies(
     "float64 fit_rms_nm\n"
     "# RMS torque error on the held-out newest part of the window: this estimate, and the accepted set\n"
     "float64 holdout_rms_nm\n"
-    "float64 holdout_rms_kept_nm\n",
+    "float64 holdout_rms_kept_nm\n"
+    "# the terms beside eq. (1), appended (a record without them has them off): the constant force along\n"
+    "# +x [N], the Coulomb [N] and viscous [N s/m] asymmetry (a1 +- da1, a2 +- da2 for v > 0 / v < 0);\n"
+    "# 0: the term is off\n"
+    "float64 f0_n\n"
+    "float64 da1_n\n"
+    "float64 da2_n_s_m\n"
+    "float64 f0_std_n\n"
+    "float64 da1_std_n\n"
+    "float64 da2_std_n_s_m\n",
     *HEADER_DEPENDENCIES,
 )
 
-_NAN5 = (math.nan,) * 5
+_NAN = (math.nan,) * len(PARAMETER_NAMES)
+_BESIDE_OFF = (0.0, 0.0, 0.0)
+"""f0, da1, da2 of a record that does not give them: the terms off"""
 
 
 @dataclass(frozen=True)
@@ -107,10 +127,11 @@ class ParamsEstimate:
     decision: Decision
     reason: str
     fitted: tuple[str, ...] = ()
-    values: tuple[float, float, float, float, float] = _NAN5
-    """M_eq [kg], a1 [N], a2 [N·s/m], a3 [N], a4 [s/m] (:data:`PARAMETER_NAMES`)"""
-    std: tuple[float, float, float, float, float] = _NAN5
-    """σ of each value, in the same order and units (NaN: not estimated)"""
+    values: tuple[float, ...] = _NAN
+    """M_eq [kg], a1 [N], a2 [N·s/m], a3 [N], a4 [s/m], f0 [N], da1 [N], da2 [N·s/m]
+    (:data:`PARAMETER_NAMES`); five values are eq. (1)'s, with f0 = da1 = da2 = 0 (off)"""
+    std: tuple[float, ...] = _NAN
+    """σ of each value, in the same order and units (NaN: not estimated); five: eq. (1)'s"""
     window_start_ns: int = 0
     window_end_ns: int = 0
     samples: int = 0
@@ -124,11 +145,16 @@ class ParamsEstimate:
             value = getattr(self, name)
             if not 0 <= value < 2**32:
                 raise WireError(f"{name} = {value} must be in [0, 2**32)")
-        for name in ("values", "std"):
-            if len(getattr(self, name)) != len(PARAMETER_NAMES):
+        for name, beside in (("values", _BESIDE_OFF), ("std", (math.nan,) * 3)):
+            numbers = tuple(float(v) for v in getattr(self, name))
+            if len(numbers) == len(PAPER_NAMES):
+                numbers += beside
+            if len(numbers) != len(PARAMETER_NAMES):
                 raise WireError(
-                    f"{name} has {len(getattr(self, name))} numbers, needs {len(PARAMETER_NAMES)}"
+                    f"{name} has {len(numbers)} numbers, needs {len(PARAMETER_NAMES)} "
+                    f"({', '.join(PARAMETER_NAMES)}) or eq. (1)'s {len(PAPER_NAMES)}"
                 )
+            object.__setattr__(self, name, numbers)
         expected = self.base_version + 1 if self.decision is Decision.ACCEPTED else self.base_version
         if self.version != expected:
             raise WireError(
@@ -150,14 +176,25 @@ class ParamsEstimate:
         """σ by parameter name (NaN: not estimated)."""
         return dict(zip(PARAMETER_NAMES, self.std, strict=True))
 
+    @property
+    def friction(self) -> FrictionLaw:
+        """The friction law of this record's values (:mod:`axisflow.model.friction`)."""
+        v = self.value_of
+        return FrictionLaw(v["a1"], v["a2"], v["a3"], v["a4"], v["f0"], v["da1"], v["da2"])
+
     def applied_to(self, params: AxisParams) -> AxisParams:
-        """``params`` with this record's M_eq (through the cart mass m) and a1…a4: the set a planner
-        uses. A :class:`WireError` for a record without values, or values no axis has."""
+        """``params`` with this record's M_eq (through the cart mass m) and its whole friction law: the
+        set a planner uses. The offset and the asymmetry are this record's, on or off as it has them
+        (an older record, without them: off), whatever ``params`` had. A :class:`WireError` for a
+        record without values, or values no axis has."""
         values = self.value_of
         if not all(math.isfinite(v) for v in values.values()):
             raise WireError(f"parameter estimate version {self.version} of axis {self.axis!r} has no values")
+        law = {name: values[name] for name in PARAMETER_NAMES if name != "M_eq"}
+        # the paper's terms as params name them; the offset and asymmetry on where the record has values
+        named = tuple(t for t in params.terms if t in PAPER_TERMS)
         try:
-            friction = params.replace(a1=values["a1"], a2=values["a2"], a3=values["a3"], a4=values["a4"])
+            friction = params.replace(**law, terms=named)
             return friction.with_equivalent_mass(values["M_eq"])
         except ValueError as exc:
             raise WireError(
@@ -174,12 +211,14 @@ class ParamsEstimate:
         w.string(self.decision.value)
         w.string(self.reason)
         w.string_sequence(tuple(self.fitted))
-        for value in (*self.values, *self.std):
+        for value in (*self.values[:5], *self.std[:5]):  # eq. (1)'s, in their original place
             w.float64(value)
         write_time(w, self.window_start_ns)
         write_time(w, self.window_end_ns)
         w.uint32(self.samples)
         for value in (self.fit_rms_nm, self.holdout_rms_nm, self.holdout_rms_kept_nm):
+            w.float64(value)
+        for value in (*self.values[5:], *self.std[5:]):  # appended: the terms beside eq. (1)
             w.float64(value)
         return w.to_bytes()
 
@@ -204,9 +243,13 @@ class ParamsEstimate:
         window = (read_time(r), read_time(r))
         samples = r.uint32()
         fit_rms, holdout, kept = r.float64(), r.float64(), r.float64()
+        if r.at_end:  # written before the terms beside eq. (1) were appended: they are off
+            beside, beside_std = _BESIDE_OFF, (math.nan,) * 3
+        else:
+            beside = (r.float64(), r.float64(), r.float64())
+            beside_std = (r.float64(), r.float64(), r.float64())
         return cls(
             stamp_ns, axis, version, base, decision, reason, fitted,
-            (numbers[0], numbers[1], numbers[2], numbers[3], numbers[4]),
-            (numbers[5], numbers[6], numbers[7], numbers[8], numbers[9]),
+            (*numbers[:5], *beside), (*numbers[5:], *beside_std),
             window[0], window[1], samples, fit_rms, holdout, kept,
         )  # fmt: skip

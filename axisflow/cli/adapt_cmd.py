@@ -14,6 +14,7 @@ from .zenoh_options import add_zenoh_options, zenoh_options_from_args
 DEFAULTS = {"window": 30.0, "holdout": 5.0, "every": 5.0}
 """the command's defaults (the same as AdaptSettings', checked by tests/cli)"""
 DEFAULT_TERMS = "M_eq,a2,coulomb"
+"""what the paper's axis fits; an axis with an offset or an asymmetry adds them (default_terms)"""
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -53,10 +54,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument(
         "--terms",
-        default=DEFAULT_TERMS,
+        default=None,
         metavar="NAMES",
-        help=f"what to fit: of M_eq, a1, a2, a3, a4 and coulomb (a1 and a3 scaled together); default "
-        f"{DEFAULT_TERMS}",
+        help=f"what to fit: of M_eq, a1, a2, a3, a4, f0, da1, da2 and coulomb (a1 and a3 scaled together; "
+        f"not f0 with da1); default {DEFAULT_TERMS}, and da1,da2 when --params has an asymmetry, else f0 "
+        "when it has an offset (the others are carried at their accepted values)",
     )
     p.add_argument(
         "--torque-delay",
@@ -91,7 +93,7 @@ def run(args: argparse.Namespace) -> int:
         window_s=args.window,
         holdout_s=args.holdout,
         every_s=args.every,
-        terms=tuple(args.terms.split(",")),
+        terms=None if args.terms is None else tuple(args.terms.split(",")),
         torque_delay_s=args.torque_delay,
     )
     adapter = Adapter(keys.axis, params, settings)

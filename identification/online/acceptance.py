@@ -15,10 +15,12 @@ mind. An estimate over a window is checked, in this order (the first rule it bre
 2. **the solver converged** (``fit_failed``);
 3. **σ below its bound** (``uncertain``): σ/|value| of each estimated term at most
    ``max_relative_std`` of it (σ from the fit's covariance with the residuals' colour taken in:
-   :mod:`..uncertainty`);
+   :mod:`..uncertainty`; the signed f0, da1, da2 over the friction they shift,
+   :func:`~.drift_fit.signed_scale`);
 4. **a plausible change** (``implausible``): the new set inside the physical ranges of every parameter
-   (:mod:`axisflow.model.parameter_ranges`, the combination that lets the axis move), and each
-   parameter within ``max_relative_change`` of its accepted value;
+   (:mod:`axisflow.model.parameter_ranges`, the combinations that let the axis move and hold itself),
+   and each parameter within ``max_relative_change`` of its accepted value (f0, da1, da2: the change
+   over :func:`~.drift_fit.signed_scale` of the accepted set);
 5. **better on held-out samples** (``no_improvement``): the newest ``holdout_s`` of the window is left
    out of the fit; on its samples (1 kHz, the same filter) the estimate's RMS torque error must be
    below the accepted set's by the relative ``holdout_margin``, and not above the starting set's
@@ -38,17 +40,19 @@ import numpy as np
 from ...acquisition.wire.params_estimate import Decision
 from ...model import AxisParams, ParameterError
 from ..errors import IdentificationError
-from ..fit import PARAMETERS, FrictionValues
+from ..fit import PARAMETERS, SIGNED_PARAMETERS, FrictionValues
 from ..preparation import PreparedLog
-from .drift_fit import COULOMB, DriftFit
+from .drift_fit import COULOMB, DriftFit, signed_scale
 
 
 def _default_std() -> dict[str, float]:
-    return {"M_eq": 0.02, "a1": 0.05, "a2": 0.05, "a3": 0.05, "a4": 0.10, COULOMB: 0.03}
+    friction = {"f0": 0.05, "da1": 0.05, "da2": 0.05}  # over signed_scale: the friction they shift
+    return {"M_eq": 0.02, "a1": 0.05, "a2": 0.05, "a3": 0.05, "a4": 0.10, COULOMB: 0.03} | friction
 
 
 def _default_change() -> dict[str, float]:
-    return {"M_eq": 0.10, "a1": 0.25, "a2": 0.30, "a3": 0.25, "a4": 0.50}
+    friction = {"f0": 0.25, "da1": 0.25, "da2": 0.30}  # as a1 and a2, over signed_scale
+    return {"M_eq": 0.10, "a1": 0.25, "a2": 0.30, "a3": 0.25, "a4": 0.50} | friction
 
 
 @dataclass(frozen=True)
@@ -192,12 +196,20 @@ def check_change(drift: DriftFit, accepted: AxisParams, rules: AcceptanceRules) 
     over = []
     for name in PARAMETERS:
         bound = rules.max_relative_change.get(name, math.inf)
-        if old[name] == 0.0:
+        of = ""
+        if name in SIGNED_PARAMETERS:
+            scale = signed_scale(name, accepted)
+            if scale == 0.0:
+                continue
+            change, of = (new[name] - old[name]) / scale, f" of {scale:.5g}"
+        elif old[name] == 0.0:
             continue
-        change = new[name] / old[name] - 1.0
+        else:
+            change = new[name] / old[name] - 1.0
         if not abs(change) <= bound:
             over.append(
-                f"{name} {old[name]:.5g} → {new[name]:.5g} ({100 * change:+.1f} %, bound ±{100 * bound:g} %)"
+                f"{name} {old[name]:.5g} → {new[name]:.5g} ({100 * change:+.1f} %{of}, "
+                f"bound ±{100 * bound:g} %)"
             )
     if over:
         return Verdict(Decision.IMPLAUSIBLE, "implausible change: " + "; ".join(over))

@@ -20,12 +20,15 @@ time (the samples' stamps, so at any bridge speed) once ``window_s`` of samples 
    period) it is held from then on (a drive's timing does not drift); until then the fits use 0, as
    ``identify`` does with an offset it cannot resolve; after :data:`DELAY_WINDOWS` windows it stays 0.
    ``torque_delay_s`` fixes it instead;
-5. fits the terms (:func:`~.drift_fit.fit_drift`, warm-started from the last window's result);
+5. fits the terms (:func:`~.drift_fit.fit_drift`, warm-started from the last window's result; by
+   default those of :func:`~.drift_fit.default_terms`: the paper's drift and the terms beside eq. (1)
+   the starting set has on);
 6. checks σ, the change and the held-out error (:mod:`.acceptance`) and, if all pass, makes the
    estimate the new accepted set (version + 1).
 
 Every step returns a :class:`~axisflow.acquisition.wire.params_estimate.ParamsEstimate` — accepted or
-not, with the reason — for the caller to publish.
+not, with the reason, and the whole friction law (a term not fitted carries its accepted value) — for
+the caller to publish.
 """
 
 from __future__ import annotations
@@ -37,7 +40,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ...acquisition.wire.params_estimate import Decision, ParamsEstimate
+from ...acquisition.wire.params_estimate import PARAMETER_NAMES, Decision, ParamsEstimate
 from ...model import AxisParams
 from ..alignment import DelayEstimate, estimate_delay
 from ..errors import IdentificationError
@@ -53,7 +56,7 @@ from .acceptance import (
     check_uncertainty,
     check_window,
 )
-from .drift_fit import COULOMB, COULOMB_SCALE, DEFAULT_TERMS, CoulombColumn, DriftFit, check_terms, fit_drift
+from .drift_fit import COULOMB, COULOMB_SCALE, CoulombColumn, DriftFit, check_terms, default_terms, fit_drift
 from .ring import SampleRing
 from .window import window_signals
 
@@ -87,14 +90,17 @@ class AdaptSettings:
     """the newest part of each window, left out of the fit and used to judge it [s]"""
     every_s: float = 5.0
     """drive time between two steps [s]"""
-    terms: tuple[str, ...] = DEFAULT_TERMS
+    terms: tuple[str, ...] | None = None
+    """what to fit (:func:`~.drift_fit.check_terms`); None: :func:`~.drift_fit.default_terms` of the
+    starting set"""
     preparation: PreparationSettings = field(default_factory=_preparation)
     torque_delay_s: float | None = None
     """the torque/position offset [s]; None: estimated on the first informative window"""
     rules: AcceptanceRules = field(default_factory=AcceptanceRules)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "terms", check_terms(self.terms))
+        if self.terms is not None:
+            object.__setattr__(self, "terms", check_terms(self.terms))
         for name, value, low in (
             ("window", self.window_s, 2.0),
             ("hold-out", self.holdout_s, 0.5),
@@ -131,6 +137,8 @@ class Adapter:
         self.settings = settings or AdaptSettings()
         self.initial = params
         """version 0: the starting set"""
+        self.terms = self.settings.terms if self.settings.terms is not None else default_terms(params)
+        """what each window fits"""
         self.accepted = params
         """the accepted set now (version :attr:`version`)"""
         self.version = 0
@@ -162,7 +170,7 @@ class Adapter:
 
     def initial_record(self, stamp_ns: int) -> ParamsEstimate:
         """Version 0: the starting set, as a record (published when the node starts)."""
-        p = self.initial
+        values = FrictionValues.of(self.initial).as_dict()
         return ParamsEstimate(
             stamp_ns,
             self.axis,
@@ -170,7 +178,7 @@ class Adapter:
             0,
             Decision.INITIAL,
             "the starting parameters",
-            values=(p.M_eq, p.a1, p.a2, p.a3, p.a4),
+            values=tuple(values[name] for name in PARAMETER_NAMES),
         )
 
     def add(self, stamp_ns: np.ndarray, angle_rad: np.ndarray, torque_nm: np.ndarray) -> None:
@@ -205,7 +213,7 @@ class Adapter:
         verdict = check_window(window.facts, s.rules, s.preparation.fit_rate_hz)
         if verdict is not None:
             return self._record(verdict, window.start_ns, window.end_ns)
-        terms = s.terms
+        terms = self.terms
         held_mass = ""
         if "M_eq" in terms and window.facts.inertial_share < s.rules.min_inertial_share:
             terms = tuple(t for t in terms if t != "M_eq")
@@ -295,12 +303,12 @@ class Adapter:
         base = self.version
         if verdict.decision is Decision.ACCEPTED:
             self.version += 1
-        values = std = (math.nan,) * 5
+        values = std = (math.nan,) * len(PARAMETER_NAMES)
         samples, fit_rms = 0, math.nan
         if drift is not None:
-            v = drift.values
-            values = (v.M_eq, v.a1, v.a2, v.a3, v.a4)
-            std = tuple(drift.std[n] for n in ("M_eq", "a1", "a2", "a3", "a4"))  # type: ignore[assignment]
+            found = drift.values.as_dict()
+            values = tuple(found[name] for name in PARAMETER_NAMES)
+            std = tuple(drift.std[name] for name in PARAMETER_NAMES)
             samples, fit_rms = drift.window.samples, drift.window.rms
         return ParamsEstimate(
             stamp_ns=end_ns,

@@ -41,7 +41,8 @@ def accepted_estimate(path: str | Path, keys: AxisKeys, version: int | None = No
 
 
 def adapted_params_file(record: ParamsEstimate, base: AxisParams, source: str) -> str:
-    """A complete parameter file: ``base`` with the record's M_eq (as the cart mass) and a1…a4."""
+    """A complete parameter file: ``base`` with the record's M_eq (as the cart mass) and friction law
+    (the offset and asymmetry on as the record has them)."""
     params = record.applied_to(base)
     window = (record.window_end_ns - record.window_start_ns) * 1e-9
     head = (

@@ -6,13 +6,26 @@ in the module of its command."""
 
 from __future__ import annotations
 
-from . import axis, deployment, files, fleet, foreign_logs, identification, logs, nodes, planning, savings
+from . import (
+    axis,
+    deployment,
+    files,
+    fleet,
+    foreign_logs,
+    identification,
+    logs,
+    nodes,
+    planning,
+    savings,
+    terms,
+)
 from .case import Case
 
 CASES: list[Case] = [
     *planning.CASES,
     *savings.CASES,
     *axis.CASES,
+    *terms.CASES,
     *identification.CASES,
     *nodes.CASES,
     *logs.CASES,

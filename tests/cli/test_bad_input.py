@@ -42,6 +42,7 @@ from ..bad_input.case import LOOPBACK
 from ..bad_input.fleet import write_fleet_inputs
 from ..bad_input.foreign_logs import write_foreign_logs
 from ..bad_input.page import REFUSALS_PAGE, refusals_page
+from ..bad_input.terms import write_terms_inputs
 
 CLI = [sys.executable, "-c", "import sys; from axisflow.cli import main; sys.exit(main())"]
 T0_NS = 1_700_000_000_000_000_000
@@ -91,6 +92,7 @@ def inputs(tmp_path_factory, damage) -> Path:
     (d / "one.txt").write_text("0.1\n")
     (d / "empty.mcap").write_bytes(b"")
     write_foreign_logs(d)
+    write_terms_inputs(d)
     (d / "full").mkdir()
     (d / "full" / "keep.txt").write_text("a session\n")
     _recording(d / "still.mcap")

@@ -2,11 +2,14 @@
 and by round trips."""
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
-from axisflow.model import ParameterError, default_params
+from axisflow.model import ParameterError, default_params, load_params
 from axisflow.model.drive_units import INT16_MAX, DriveUnits
+from axisflow.model.encoder import axis_resolution_m
+from axisflow.model.transmission import LINEAR_SCALE_PERIOD_M
 
 PARAMS = default_params()
 UNITS = DriveUnits.for_axis(PARAMS, counts_per_rev=131072, rated_torque_nm=2.0, zero_counts=1000)
@@ -108,3 +111,41 @@ def test_a_reversed_encoder_counts_the_other_way_and_reads_back_within_a_count()
         counts = reversed_units.encoder_counts(x)
         assert counts == reversed_units.counts(x) or abs(counts - reversed_units.counts(x)) == 1
         assert x - 1e-15 <= reversed_units.position_m(counts) < x + step  # the count at or below, reversed
+
+
+AXES = Path(__file__).parents[2] / "docs" / "axes"
+KINDS = {
+    # kind: (the file of docs/axes, travel per radian of the driven element [m] and reduction, by hand)
+    "belt": ("belt.toml", 0.04, 10.0),
+    "ball-screw": ("ball-screw.toml", 0.01 / (2 * math.pi), 1.0),
+    "rack-pinion": ("rack-pinion.toml", 0.03, 5.0),
+    "linear-motor": ("linear-motor.toml", LINEAR_SCALE_PERIOD_M / (2 * math.pi), 1.0),
+}
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_every_transmission_kind_maps_to_its_driven_elements_travel_and_counts_round_trip(kind):
+    """A drive on each kind of axis: the driven element's travel per radian (a pulley's or pinion's
+    radius, a screw's lead/2π, a linear motor's scale period/2π) and the reduction, one count the
+    element's travel per turn over counts × i_r (what the encoder model resolves, model/encoder.py);
+    positions, speeds and torques (a linear motor's: forces) round-trip to half a unit, and drive
+    integers exactly."""
+    name, per_radian, i_r = KINDS[kind]
+    params = load_params(AXES / name)
+    assert params.kind == kind
+    counts_per_rev, rated = 131072, 0.4 * params.tau_max
+    units = DriveUnits.for_axis(params, counts_per_rev, rated, zero_counts=-5000, direction=-1)
+    assert (units.r, units.i_r) == (pytest.approx(per_radian, rel=1e-15), i_r)
+    travel = params.transmission.output_travel_m
+    assert units.metres_per_count == pytest.approx(travel / (counts_per_rev * i_r), rel=1e-14)
+    assert units.metres_per_count == pytest.approx(axis_resolution_m(params, counts_per_rev) / i_r, rel=1e-14)
+    for x in np.linspace(0.0, params.L, 7):
+        assert abs(units.position_m(units.counts(x)) - x) <= 0.5 * units.metres_per_count + 1e-15
+    for v in (-params.v_max, -1e-3, 0.0, 0.37 * params.v_max, params.v_max):
+        assert abs(units.velocity_m_s(units.counts_per_s(v)) - v) <= 0.5 * units.metres_per_count + 1e-15
+    for tau in (-params.tau_max, -1e-3 * rated, 0.0, 0.777 * params.tau_max, params.tau_max):
+        assert abs(units.torque_nm(units.per_mille(tau)) - tau) <= 0.5 * units.newton_metres_per_unit + 1e-12
+    for n in (-5000, 0, 123_457, -987_654):
+        assert units.counts(units.position_m(n)) == n
+    for p in (-2500, -1, 0, 1, 1000, 2500):
+        assert units.per_mille(units.torque_nm(p)) == p

@@ -25,7 +25,8 @@ def _record(params: AxisParams, version: int = 1, accepted: bool = True) -> Para
     decision = Decision.ACCEPTED if accepted else Decision.NO_IMPROVEMENT
     return ParamsEstimate(
         time.time_ns(), "a0", version if accepted else version - 1, version - 1, decision, "a test's record",
-        ("M_eq", "a2", "coulomb"), (params.M_eq, params.a1, params.a2, params.a3, params.a4),
+        ("M_eq", "a2", "coulomb"),
+        (params.M_eq, params.a1, params.a2, params.a3, params.a4, params.f0, params.da1, params.da2),
     )  # fmt: skip
 
 
@@ -56,7 +57,12 @@ def _run_with_records(thread_bridge, port, records, after_plans=4):
 
 
 def test_every_plan_after_an_accepted_record_uses_its_version(thread_bridge, port):
-    colder = BASE.replace(a1=BASE.a1 * 1.15, a2=BASE.a2 * 1.1, a3=BASE.a3 * 1.15, m=BASE.m * 1.03)
+    # with an offset and an asymmetry too (small enough that neither direction has less friction than
+    # the bridge's model, which would hold a faster plan to its limits): a term fitted is a term planned
+    colder = BASE.replace(
+        a1=BASE.a1 * 1.15, a2=BASE.a2 * 1.1, a3=BASE.a3 * 1.15, m=BASE.m * 1.03, f0=5.0, da1=4.0, da2=10.0
+    )
+    assert min(colder.forward(s).c for s in (1, -1)) >= BASE.a1 and colder.a2 - colder.da2 >= BASE.a2
     plans, report, published_ns = _run_with_records(thread_bridge, port, [_record(colder)])
     versions = [p.params_version for p in plans]
     assert versions == sorted(versions) and set(versions) == {0, 1}  # swapped once, between two moves

@@ -258,3 +258,4 @@ def test_the_adapted_parameters_their_band_and_the_friction_curves(adapted, rrd_
     at_vmax = v2["a1"] + v2["a2"] * p.v_max + v2["a3"] * np.arctan(v2["a4"] * p.v_max)
     assert curve[-1] == pytest.approx([p.v_max, at_vmax], rel=1e-6)
     assert data["/axes/a0/friction/start"].static
+    assert "/axes/a0/params/f0" not in data  # a term off in version 0 has no percentage to draw

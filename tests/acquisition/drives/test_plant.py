@@ -2,6 +2,7 @@
 the key, the value, the range and the unit)."""
 
 import math
+from pathlib import Path
 
 import pytest
 from axisflow.acquisition import PlantError
@@ -14,9 +15,10 @@ from axisflow.acquisition.drives.plant import (
     load_profile,
     plant_from_mapping,
 )
-from axisflow.model import default_params
+from axisflow.model import default_params, load_params
 
 NOMINAL = default_params()
+FRICTION = {"a1", "a2", "a3", "a4"}
 S = "[scale]\nm = 1.0\n"  # a true axis, for the rows below that spoil another section
 
 
@@ -43,6 +45,21 @@ def test_the_default_scale_is_the_ideal_files_scale():
     for key, factor in scale.items():
         assert getattr(plant.axis, key) == pytest.approx(getattr(NOMINAL, key) * factor, rel=1e-15)
     assert {"m", "a1", "a2", "a3", "a4"} <= set(scale)
+
+
+@pytest.mark.parametrize("kind", ["ball-screw", "rack-pinion", "linear-motor"])
+def test_every_packaged_profile_makes_a_true_axis_of_every_transmission_kind(kind):
+    """The packaged [scale] scales the rotor of every kind that has one; a linear motor has none, and the
+    factor on it scales nothing."""
+    nominal = load_params(Path(__file__).parents[3] / "docs" / "axes" / f"{kind}.toml")
+    for name in PROFILE_RESOURCES:
+        plant = load_profile(name, nominal)
+        assert plant.axis.kind == kind and set(plant.scale) <= {"m", *nominal.transmission.keys, *FRICTION}
+        for key, factor in plant.scale.items():
+            assert getattr(plant.axis, key) == pytest.approx(getattr(nominal, key) * factor, rel=1e-15)
+        assert plant.axis.m == pytest.approx(1.05 * nominal.m, rel=1e-15)
+        assert plant.axis.f0 == nominal.f0 and plant.axis.da1 == nominal.da1  # not scaled
+    assert ("J_m" in load_profile("ideal", nominal).scale) is (kind != "linear-motor")
 
 
 def test_a_user_file_builds_on_a_profile_and_overrides_single_keys(tmp_path):

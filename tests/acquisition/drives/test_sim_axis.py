@@ -324,3 +324,34 @@ def test_a_state_file_outside_the_stroke_or_the_speed_limit_is_refused_untouched
     with pytest.raises(PlantError, match=match):
         SimulatedAxis(load_plant(None, p), p, 0, state_path=state)
     assert state.read_bytes() == before
+
+
+@pytest.mark.parametrize("profile", ["realistic", "warm-up"])
+def test_a_realistic_linear_motor_has_no_belt_and_tracks_a_move(profile):
+    """A linear motor's coil moves with its carriage: nothing on the motor side of a belt, so the
+    realistic profiles' [belt] leaves it rigid; it runs their drive units, noise and clock all the same."""
+    import dataclasses
+    from pathlib import Path
+
+    from axisflow.acquisition.drives.mechanics import RigidAxis
+    from axisflow.acquisition.drives.plant import load_profile
+    from axisflow.model import load_params
+
+    p = load_params(Path(__file__).parents[3] / "docs" / "axes" / "linear-motor.toml")
+    plant = load_profile(profile, p)
+    plant = dataclasses.replace(
+        plant, simulation=dataclasses.replace(plant.simulation, initial_position_m=0.1)
+    )
+    assert plant.belt is not None
+    ax = SimulatedAxis(plant, p, T0)
+    assert isinstance(ax.mechanics, RigidAxis)
+    queue = MoveQueue(p, 0.1, T0, "a0")
+    queue.submit(MoveCommand(0, "a0", 1, 0, "poly5", 0.1, 0.5, 0.5), 0)
+    errors = []
+    for k in range(1000):
+        s = ax.read()
+        sp = queue.setpoint(k)
+        if s is not None:
+            errors.append(abs(sp.position_m - s.position_m))
+        ax.apply(sp)
+    assert max(errors) < 1e-3 and ax.position_m == pytest.approx(0.5, abs=1e-3)

@@ -2,6 +2,7 @@
 
 import dataclasses
 import math
+from pathlib import Path
 
 import pytest
 from axisflow.acquisition import (
@@ -360,8 +361,8 @@ ESTIMATE = ParamsEstimate(
     decision=Decision.ACCEPTED,
     reason="accepted: held-out error 0.0150 N·m against 0.0171 N·m of version 3 (−12.3 %)",
     fitted=("M_eq", "a2", "coulomb"),
-    values=(115.2, 74.1, 160.3, 198.5, 10.24),
-    std=(0.4, 0.9, 2.2, 2.4, math.nan),
+    values=(115.2, 74.1, 160.3, 198.5, 10.24, 12.5, -3.25, 8.0),
+    std=(0.4, 0.9, 2.2, 2.4, math.nan, math.nan, 0.31, 0.72),
     window_start_ns=1_700_000_103_000_000_000,
     window_end_ns=1_700_000_123_000_000_000,
     samples=1234,
@@ -376,6 +377,7 @@ def test_a_parameter_estimate_round_trips_through_both_codecs():
     back = ParamsEstimate.decode(data)
     assert back.encode() == data  # NaN ≠ NaN: compare the bytes, and the fields one by one
     assert back.values == ESTIMATE.values and back.std[:4] == ESTIMATE.std[:4] and math.isnan(back.std[4])
+    assert math.isnan(back.std[5]) and back.std[6:] == (0.31, 0.72)
     assert (back.version, back.base_version, back.decision, back.fitted) == (
         4,
         3,
@@ -389,14 +391,19 @@ def test_a_parameter_estimate_round_trips_through_both_codecs():
         ESTIMATE.reason,
         list(ESTIMATE.fitted),
     )
-    assert (ref.m_eq_kg, ref.a1_n, ref.a2_n_s_m, ref.a3_n, ref.a4_s_m) == ESTIMATE.values
+    assert (ref.m_eq_kg, ref.a1_n, ref.a2_n_s_m, ref.a3_n, ref.a4_s_m) == ESTIMATE.values[:5]
+    assert (ref.f0_n, ref.da1_n, ref.da2_n_s_m) == ESTIMATE.values[5:]
     assert math.isnan(ref.a4_std_s_m) and ref.m_eq_std_kg == 0.4
+    assert math.isnan(ref.f0_std_n) and (ref.da1_std_n, ref.da2_std_n_s_m) == (0.31, 0.72)
     assert ref.window_start.sec * 10**9 + ref.window_start.nanosec == ESTIMATE.window_start_ns
     assert (ref.samples, ref.fit_rms_nm, ref.holdout_rms_kept_nm) == (1234, 0.0148, 0.0171)
     encode = serialize_dynamic(PARAMS_ESTIMATE_TYPE, SCHEMAS[PARAMS_ESTIMATE_TYPE])[PARAMS_ESTIMATE_TYPE]
     time = lambda ns: {"sec": ns // 10**9, "nanosec": ns % 10**9}  # noqa: E731
-    names = ("m_eq_kg", "a1_n", "a2_n_s_m", "a3_n", "a4_s_m")
-    std_names = ("m_eq_std_kg", "a1_std_n", "a2_std_n_s_m", "a3_std_n", "a4_std_s_m")
+    names = ("m_eq_kg", "a1_n", "a2_n_s_m", "a3_n", "a4_s_m", "f0_n", "da1_n", "da2_n_s_m")
+    std_names = (
+        "m_eq_std_kg", "a1_std_n", "a2_std_n_s_m", "a3_std_n", "a4_std_s_m",
+        "f0_std_n", "da1_std_n", "da2_std_n_s_m",
+    )  # fmt: skip
     fields = {
         "header": {"stamp": time(ESTIMATE.stamp_ns), "frame_id": "a0"},
         "version": 4,
@@ -417,6 +424,18 @@ def test_a_parameter_estimate_round_trips_through_both_codecs():
     assert bytes(encode(fields)) == data
 
 
+def test_an_estimate_written_before_the_terms_beside_eq1_reads_with_them_off():
+    data = ESTIMATE.encode()
+    old = data[: -6 * 8]  # the record as it was before f0, da1, da2 and their σ were appended
+    back = ParamsEstimate.decode(old)
+    assert back.values == (*ESTIMATE.values[:5], 0.0, 0.0, 0.0)
+    assert back.std[:4] == ESTIMATE.std[:4] and all(math.isnan(s) for s in back.std[4:])
+    assert back.friction.is_symmetric and back.holdout_rms_kept_nm == ESTIMATE.holdout_rms_kept_nm
+    # and so does a record built with eq. (1)'s five values only
+    five = dataclasses.replace(ESTIMATE, values=ESTIMATE.values[:5], std=ESTIMATE.std[:5])
+    assert five.values == back.values and ParamsEstimate.decode(five.encode()).encode() == five.encode()
+
+
 def test_a_rejected_estimate_keeps_its_version_and_names_why():
     kept = dataclasses.replace(ESTIMATE, version=3, decision=Decision.NO_IMPROVEMENT, reason="no better")
     back = ParamsEstimate.decode(kept.encode())
@@ -428,7 +447,8 @@ def test_a_rejected_estimate_keeps_its_version_and_names_why():
     [
         ({"version": 3}, "version = 3 after a decision accepted on version 3 must be 4"),
         ({"decision": Decision.UNCERTAIN}, "version = 4 after a decision uncertain on version 3 must be 3"),
-        ({"values": (1.0, 2.0)}, "values has 2 numbers, needs 5"),
+        ({"values": (1.0, 2.0)}, r"values has 2 numbers, needs 8 \(M_eq, a1, a2, a3, a4, f0, da1, da2\)"),
+        ({"std": (1.0,) * 6}, "std has 6 numbers, needs 8"),
         ({"samples": -1}, "samples = -1 must be in"),
     ],
 )
@@ -459,7 +479,21 @@ def test_an_estimate_applies_to_a_parameter_set_through_the_cart_mass():
     assert applied.M_eq == pytest.approx(115.2, rel=1e-12)
     assert applied.J_m == params.J_m and applied.r == params.r
     assert (applied.a1, applied.a2, applied.a3, applied.a4) == (74.1, 160.3, 198.5, 10.24)
+    assert (applied.f0, applied.da1, applied.da2) == (12.5, -3.25, 8.0)
+    assert applied.terms == ("coulomb", "viscous", "offset", "asymmetry", "atan")
+    assert applied.friction == ESTIMATE.friction  # the law the planner plans with is the record's
     with pytest.raises(WireError, match="has no values"):
         dataclasses.replace(ESTIMATE, values=(math.nan,) * 5).applied_to(params)
     with pytest.raises(WireError, match="M_eq = 1 kg is not above the rotating parts' share"):
         dataclasses.replace(ESTIMATE, values=(1.0, 74.1, 160.3, 198.5, 10.24)).applied_to(params)
+
+
+def test_an_estimate_without_the_terms_beside_eq1_switches_them_off_in_the_set_it_applies_to():
+    from axisflow.model import load_params
+
+    axis = load_params(Path(__file__).parents[3] / "docs" / "axes" / "belt.toml")
+    assert {"offset", "asymmetry"} <= set(axis.terms)
+    old = ParamsEstimate.decode(ESTIMATE.encode()[: -6 * 8])
+    applied = old.applied_to(axis)
+    assert (applied.f0, applied.da1, applied.da2) == (0.0, 0.0, 0.0)
+    assert not {"offset", "asymmetry"} & set(applied.terms) and applied.a2 == 160.3

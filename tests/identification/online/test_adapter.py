@@ -3,11 +3,13 @@ an informative window with a real change gives (accepted, version + 1, near the 
 that turns an estimate down, observed in the record's decision and reason."""
 
 import dataclasses
+from pathlib import Path
 
 import numpy as np
 import pytest
 from axisflow.acquisition.wire.params_estimate import Decision, ParamsEstimate
 from axisflow.identification.online import AcceptanceRules, Adapter, AdaptSettings
+from axisflow.model import load_params
 
 from .moves import NOMINAL, T0_NS, at_rest, moves, truth
 
@@ -159,3 +161,23 @@ def test_the_initial_record_is_version_zero_with_the_starting_values():
     record = Adapter("a0", NOMINAL).initial_record(T0_NS)
     assert (record.version, record.decision, record.accepted) == (0, Decision.INITIAL, True)
     assert record.value_of["M_eq"] == NOMINAL.M_eq and record.value_of["a2"] == NOMINAL.a2
+
+
+def test_an_axis_with_an_offset_and_an_asymmetry_refits_them_and_carries_every_term():
+    """The belt file of docs/axes (f0 25 N, da1 6 N, da2 −12 N·s/m; the packaged transmission): its
+    asymmetry drifts with the rest; the accepted record carries f0 (held: the force at rest) and the
+    refit da1, da2, and the set it gives a planner is the adapter's."""
+    axis = load_params(Path(__file__).parents[3] / "docs" / "axes" / "belt.toml")
+    warm = dataclasses.replace(truth(axis, coulomb=0.95, viscous=0.85), f0=axis.f0, da1=9.0, da2=-8.0)
+    adapter, record = _first_step(moves(warm, 30.5, noise_nm=0.01), params=axis)
+    assert record.decision is Decision.ACCEPTED, record.reason
+    assert record.fitted == ("M_eq", "a2", "da1", "da2", "coulomb")
+    for name in ("da1", "da2"):
+        value, sigma = record.value_of[name], record.std_of[name]
+        assert abs(value - getattr(warm, name)) <= 4 * sigma and 0 < sigma < 1.0, (name, value, sigma)
+    assert record.value_of["f0"] == axis.f0 and np.isnan(record.std_of["f0"])
+    planned = ParamsEstimate.decode(record.encode()).applied_to(axis)
+    assert planned.friction == adapter.accepted.friction and planned.terms == axis.terms
+    assert planned.M_eq == pytest.approx(adapter.accepted.M_eq, rel=1e-12)
+    start = adapter.initial_record(T0_NS).value_of
+    assert (start["f0"], start["da1"], start["da2"]) == (axis.f0, axis.da1, axis.da2)

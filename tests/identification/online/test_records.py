@@ -7,6 +7,7 @@ from axisflow.acquisition.logs.mcap_writer import Ros2McapWriter
 from axisflow.acquisition.wire.keys import AxisKeys, topic_for_key
 from axisflow.acquisition.wire.params_estimate import PARAMS_ESTIMATE_TYPE, Decision, ParamsEstimate
 from axisflow.identification.errors import IdentificationError
+from axisflow.identification.fit import FrictionValues
 from axisflow.identification.online.records import accepted_estimate, recorded_estimates
 from axisflow.model import default_params, load_params
 
@@ -71,3 +72,34 @@ def test_params_from_writes_a_parameter_file_every_params_takes(recording, tmp_p
     assert again.returncode == 2 and "already exists" in again.stderr and load_params(out).a2 == 180.0
     shown = cli.run("params", "--params", str(out), "--json")
     assert '"a2": 180.0' in shown.stdout
+
+
+def test_params_from_carries_the_terms_beside_eq1_of_the_record(tmp_path, cli):
+    """An adapted ball-screw axis (docs/axes): the file written back has the record's offset and
+    asymmetry, and its transmission; a parameter file without them gets them from the record."""
+    from pathlib import Path
+
+    axes = Path(__file__).parents[3] / "docs" / "axes"
+    axis = load_params(axes / "ball-screw.toml")
+    values = (axis.M_eq * 1.01, 38.0, 290.0, 0.0, 0.0, axis.f0, 6.5, 27.0)
+    start = tuple(FrictionValues.of(axis).as_dict().values())  # the wire's order: M_eq, a1…a4, f0, da1, da2
+    fitted = ("M_eq", "a2", "da1", "da2")
+    records = [
+        ParamsEstimate(T0, "a0", 0, 0, Decision.INITIAL, "start", values=start),
+        ParamsEstimate(T0 + 10**9, "a0", 1, 0, Decision.ACCEPTED, "accepted", fitted, values),
+    ]
+    path = tmp_path / "screw.mcap"
+    writer = Ros2McapWriter(path)
+    channel = writer.channel_for(topic_for_key(AxisKeys("a0").params), PARAMS_ESTIMATE_TYPE)
+    for n, r in enumerate(records, start=1):
+        writer.add(channel, r.stamp_ns, r.stamp_ns, n, r.encode())
+    writer.finish()
+    out = tmp_path / "adapted.toml"
+    done = cli.run(
+        "params", "--from", str(path), "--params", str(axes / "ball-screw.toml"), "--out", str(out)
+    )
+    assert done.returncode == 0, done.stderr
+    adapted = load_params(out)
+    assert (adapted.kind, adapted.lead) == ("ball-screw", axis.lead)
+    assert (adapted.a1, adapted.a2, adapted.f0, adapted.da1, adapted.da2) == (38.0, 290.0, axis.f0, 6.5, 27.0)
+    assert adapted.terms == axis.terms and adapted.M_eq == pytest.approx(axis.M_eq * 1.01, rel=1e-12)
