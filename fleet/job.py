@@ -41,17 +41,21 @@ SAVE_EVERY_S = 30.0
 
 @dataclass(frozen=True)
 class Progress:
-    """How far a job is: windows done of all to do, by status, and the time since it started."""
+    """How far a job is: windows done of all to do, by status, the time since it started, and the
+    axes whose calibration is still running (their windows wait for it)."""
 
     done: int
     total: int
     by_status: dict[str, int]
     elapsed_s: float
+    calibrating: int = 0
 
     def line(self) -> str:
         counts = ", ".join(f"{n} {s.replace('_', ' ')}" for s, n in sorted(self.by_status.items()))
         left = ""
-        if 0 < self.done < self.total:
+        if self.calibrating:  # the windows done so far do not tell the rate yet
+            left = f", {self.calibrating} axes still calibrating"
+        elif 0 < self.done < self.total:
             left = f", ~{self.elapsed_s / self.done * (self.total - self.done):.0f} s left"
         return f"{self.done}/{self.total} windows ({counts}) in {self.elapsed_s:.0f} s{left}"
 
@@ -127,7 +131,8 @@ def identify_windows(
         new.append(row)
         by_status[row.status] = by_status.get(row.status, 0) + 1
         if progress is not None:
-            progress(Progress(len(new), len(todo), dict(by_status), time.perf_counter() - t0))
+            running = sum(not isinstance(c, AxisCalibration) and not c.done() for c in calibrations.values())
+            progress(Progress(len(new), len(todo), dict(by_status), time.perf_counter() - t0, running))
         if time.perf_counter() - saved > SAVE_EVERY_S:
             write_fits(folder, [*kept, *new])
             saved = time.perf_counter()
