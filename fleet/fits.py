@@ -10,6 +10,7 @@ already has. Like the catalog, the file is plain Parquet marked with :data:`FITS
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass, fields
 from pathlib import Path
@@ -20,7 +21,10 @@ from .catalog import FORMAT_KEY, read_parquet_table
 from .errors import FleetError
 
 FITS_FILE = "fits.parquet"
-FITS_FORMAT = "axisflow.fleet.fits/1"
+FITS_FORMAT = "axisflow.fleet.fits/2"
+OLDER_FITS_FORMATS = ("axisflow.fleet.fits/1",)
+"""tables of an older method (each window fitted alone, the terms chosen per window): a re-run fits
+every window again"""
 OK, TOO_LITTLE_MOTION, FAILED = "ok", "too_little_motion", "failed"
 STATUSES = (OK, TOO_LITTLE_MOTION, FAILED)
 DEFAULT_HOLDOUT = 0.2
@@ -56,6 +60,10 @@ class FitRow:
     coulomb_n: float
     """friction force at the reference speed [N] (the model's law with the fitted a1…a4)"""
     coulomb_std_n: float
+    """its σ from the window's samples: the spread of this window's value around the axis's"""
+    coulomb_sys_std_n: float
+    """the axis's systematic σ of it, common to all its windows (from its calibration's offset:
+    :mod:`.axis_calibration`; NaN: not known); against the truth, σ² = coulomb_std_n² + this²"""
     energy_per_m_j: float
     """mechanical energy the drive put in per metre travelled [J/m] (the parameters' energy accounting)"""
     fit_rms: float
@@ -67,6 +75,8 @@ class FitRow:
     stretch_high_m: float
     """the stretch of the stroke the fitted samples cover (a1 is its average there)"""
     torque_delay_s: float
+    """the torque/position offset the fit used [s] (the axis's calibration's, or the window's own)"""
+    torque_delay_std_s: float
     status: str
     reason: str
     wall_s: float
@@ -76,6 +86,13 @@ class FitRow:
     @property
     def ok(self) -> bool:
         return self.status == OK
+
+    @property
+    def coulomb_truth_std_n(self) -> float:
+        """σ of ``coulomb_n`` against the truth: the window's and the axis's systematic σ together
+        (the window's alone where the systematic one is not known)."""
+        sys = self.coulomb_sys_std_n if math.isfinite(self.coulomb_sys_std_n) else 0.0
+        return math.hypot(self.coulomb_std_n, sys)
 
     def value(self, parameter: str) -> tuple[float, float]:
         """(value, σ) of a trended parameter: one of :data:`FITTED`, ``coulomb_n``, ``energy_per_m_j``."""
@@ -115,7 +132,7 @@ def write_fits(folder: Path, rows: Sequence[FitRow]) -> Path:
 def read_fits(folder: str | Path, missing_ok: bool = False) -> list[FitRow]:
     """The rows of ``folder/fits.parquet`` ([] when it does not exist and ``missing_ok``)."""
     path = Path(folder) / FITS_FILE
-    if not path.exists():
+    if not path.exists() or (missing_ok and _format_of(path) in OLDER_FITS_FORMATS):
         if missing_ok:
             return []
         raise FleetError(
@@ -128,3 +145,14 @@ def read_fits(folder: str | Path, missing_ok: bool = False) -> list[FitRow]:
         raise FleetError(f"{path} lacks the column(s) {', '.join(missing)}")
     data = table.select(names).to_pydict()
     return [FitRow(**{n: data[n][i] for n in names}) for i in range(table.num_rows)]
+
+
+def _format_of(path: Path) -> str:
+    """The format mark of a Parquet file ("" if it has none or cannot be read)."""
+    import pyarrow.parquet as pq
+
+    try:
+        metadata = pq.read_schema(path).metadata or {}
+    except Exception:
+        return ""
+    return metadata.get(FORMAT_KEY, b"").decode(errors="replace")

@@ -12,8 +12,9 @@ A day's log is the axis's working day in miniature: the simulated drive (:class:
 plant integrated offline, not at real time) runs :data:`DAY_BURSTS` — sinusoidal bursts of the
 identification excitation (:class:`~axisflow.identification.excitation.Burst`) at speeds from 2 cm/s
 to 0.5 m/s both ways, in an order drawn per day — through the bridge's move queue, validated like live
-moves. The state and setpoint topics are written as the recorder writes them (ROS 2 profile, zstd
-chunks), encoded in bulk (:class:`~axisflow.acquisition.logs.joint_state_layout.JointStateLayout`).
+moves. The state and setpoint topics are written by the recorder's writer
+(:class:`~axisflow.acquisition.logs.recording_writer.RecordingWriter`: ROS 2 profile, zstd chunks),
+encoded in bulk (:class:`~axisflow.acquisition.logs.joint_state_layout.JointStateLayout`).
 Every random draw comes from the fleet's seed, so a fleet is reproducible.
 
 ``truth.json`` beside the logs (:class:`FleetTruth`) holds what the simulation knows and a fit can
@@ -35,21 +36,19 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from mcap.writer import Writer
 
 from ..acquisition.bridge.move_queue import MoveQueue
 from ..acquisition.drives.plant import PlantConfig, StrokeFrictionConfig, load_profile, plant_from_mapping
 from ..acquisition.drives.sim_axis import SimulatedAxis
 from ..acquisition.logs.chunking import DEFAULT_CHUNK_SIZE
 from ..acquisition.logs.joint_state_layout import JointStateLayout
-from ..acquisition.logs.mcap_writer import COMPRESSIONS, LIBRARY, OFFERED_QOS_PROFILES
+from ..acquisition.logs.recording_writer import RecordingWriter
 from ..acquisition.wire.keys import AxisKeys, topic_for_key
 from ..acquisition.wire.messages import (
     APPEND,
     AXIS_JOINTS,
     JOINT_STATE_TYPE,
     SAMPLED_LAW,
-    SCHEMAS,
     AxisSample,
     JointState,
     Knots,
@@ -519,28 +518,27 @@ def _write_log(
     for cols, joints in ((state, state_joints), (setpoint, setpoint_joints)):
         stamps = np.asarray(cols.stamp_ns, dtype=np.int64)
         blobs.append(layout.encode(template, stamps, *joints).tobytes())
-    with atomic_path(path) as part, open(part, "wb") as fh:
-        writer = Writer(fh, chunk_size=DEFAULT_CHUNK_SIZE, compression=COMPRESSIONS["zstd"])
-        writer.start(profile="ros2", library=LIBRARY)
-        schema = writer.register_schema(JOINT_STATE_TYPE, "ros2msg", SCHEMAS[JOINT_STATE_TYPE].encode())
-        metadata = {"offered_qos_profiles": OFFERED_QOS_PROFILES}
-        s_ch, p_ch = (
-            writer.register_channel(topic_for_key(key), "cdr", schema, metadata)
-            for key in (keys.state, keys.setpoint)
-        )
-        s_blob, p_blob = blobs
-        s_stamps, p_stamps = state.stamp_ns, setpoint.stamp_ns
-        next_state = 0
-        for tick, stamp in enumerate(p_stamps):
-            if next_state < len(state_ticks) and state_ticks[next_state] == tick:
-                i = next_state
-                t = s_stamps[i]
-                writer.add_message(s_ch, t + RECORD_DELAY_NS, s_blob[i * size : (i + 1) * size], t, i + 1)
-                next_state += 1
-            writer.add_message(
-                p_ch, stamp + RECORD_DELAY_NS, p_blob[tick * size : (tick + 1) * size], stamp, tick + 1
+    with atomic_path(path) as part:
+        writer = RecordingWriter(part, "zstd", DEFAULT_CHUNK_SIZE)
+        try:
+            s_ch, p_ch = (
+                writer.channel_for(topic_for_key(k), JOINT_STATE_TYPE) for k in (keys.state, keys.setpoint)
             )
-        writer.finish()
+            s_blob, p_blob = blobs
+            s_stamps, p_stamps = state.stamp_ns, setpoint.stamp_ns
+            add = writer.add
+            next_state = 0
+            for tick, stamp in enumerate(p_stamps):
+                if next_state < len(state_ticks) and state_ticks[next_state] == tick:
+                    i = next_state
+                    t = s_stamps[i]
+                    add(s_ch, t + RECORD_DELAY_NS, t, i + 1, s_blob[i * size : (i + 1) * size])
+                    next_state += 1
+                add(p_ch, stamp + RECORD_DELAY_NS, stamp, tick + 1, p_blob[tick * size : (tick + 1) * size])
+        finally:
+            writer.finish()
+        if writer.dropped:  # a backlog larger than any day's log: never expected
+            raise FleetValueError(f"{path}: the writer dropped messages {writer.dropped}")
 
 
 def check_simulation_dir(out: str | Path, overwrite: bool) -> Path:

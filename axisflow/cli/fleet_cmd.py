@@ -91,8 +91,11 @@ def _identify(steps: argparse._SubParsersAction) -> None:
         help="identify every axis per window on Dask distributed",
         description="Identify every axis of the catalog per window with the code of `axisflow identify`, "
         "a task per window on Dask distributed, into DIR/fits.parquet (one row per axis and window). "
-        "Windows already there (same content and settings) are not done again. A window that fails "
-        "is a row with its reason; the command fails only when no window could be identified.",
+        "Every window fits the same terms (those of --params); each axis is first calibrated on its "
+        "first 5 windows (torque/position offset, cogging orders: DIR/calibrations.parquet), which all "
+        "its windows then hold. Windows already there (same content and settings) are not done again. "
+        "A window that fails is a row with its reason; the command fails only when no window could be "
+        "identified.",
     )
     _catalog_option(p)
     p.add_argument(
@@ -109,7 +112,7 @@ def _identify(steps: argparse._SubParsersAction) -> None:
         help="the last FRACTION of each log kept out of the fit for the held-out error "
         f"(default {DEFAULT_HOLDOUT:g})",
     )
-    p.add_argument("--redo", action="store_true", help="identify every window again")
+    p.add_argument("--redo", action="store_true", help="calibrate every axis and identify every window again")
     _cluster_options(p)
     add_params_option(p)
     p.set_defaults(func=run_identify)
