@@ -29,7 +29,7 @@ from pathlib import Path
 from typing import Any
 
 from ..model import AxisflowError
-from ..model.files import write_atomic
+from ..model.files import read_json, write_atomic
 
 J_PER_KWH = 3.6e6
 ASSUMPTIONS: tuple[str, ...] = (
@@ -227,13 +227,7 @@ class SavingsReport:
 
 
 def read_report(path: str | Path) -> SavingsReport:
-    try:
-        data = json.loads(Path(path).read_text("utf-8"))
-    except FileNotFoundError:
-        raise SavingsReportError(f"{path} does not exist") from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise SavingsReportError(f"{path} cannot be read as JSON: {exc}") from None
-    return SavingsReport.decode(data, str(path))
+    return SavingsReport.decode(read_json(path, SavingsReportError), str(path))
 
 
 def write_report(report: SavingsReport, folder: Path) -> list[Path]:
