@@ -34,6 +34,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..model import friction_expression, friction_force
+from ..model.units import PARAMETER_UNITS as MODEL_UNITS
 from .errors import IdentificationError
 from .preparation import FitSamples
 from .uncertainty import Uncertainty, estimate_uncertainty
@@ -43,16 +44,8 @@ if TYPE_CHECKING:
 
 PARAMETERS: tuple[str, ...] = ("M_eq", "a1", "a2", "a3", "a4", "f0", "da1", "da2")
 """what a refit may estimate, in report order (the paper's five first)"""
-PARAMETER_UNITS = {
-    "M_eq": "kg",
-    "a1": "N",
-    "a2": "N·s/m",
-    "a3": "N",
-    "a4": "s/m",
-    "f0": "N",
-    "da1": "N",
-    "da2": "N·s/m",
-}
+PARAMETER_UNITS: dict[str, str] = {name: MODEL_UNITS[name] for name in PARAMETERS}
+"""the unit of each, the model's (:data:`axisflow.model.units.PARAMETER_UNITS`)"""
 PAPER_PARAMETERS: tuple[str, ...] = PARAMETERS[:5]
 """eq. (1)'s parameters: M_eq and a1…a4 (what a fit estimates unless told otherwise)"""
 SIGNED_PARAMETERS = frozenset({"f0", "da1", "da2"})

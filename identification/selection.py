@@ -65,7 +65,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..model.terms import TERMS, canonical_terms
+from ..model.terms import LAW_TERMS, TERMS, canonical_terms
 from .alignment import estimate_delay
 from .errors import IdentificationError
 from .extra_terms import ExtraTerms
@@ -78,8 +78,8 @@ if TYPE_CHECKING:
 
 BASE_TERMS = ("coulomb", "viscous")
 """the terms every structure has (with the inertia M_eq)"""
-LAW_TERMS = ("offset", "asymmetry", "atan")
-"""the friction law's optional terms, in the order a structure lists them"""
+OPTIONAL_TERMS = tuple(t for t in LAW_TERMS if t not in BASE_TERMS)
+"""the friction law's optional terms (offset, asymmetry, atan), in the order a structure lists them"""
 
 
 def law_candidates(offset_given: bool) -> tuple[tuple[str, ...], ...]:
@@ -111,15 +111,15 @@ class Structure:
     """The terms of one fit (module docstring)."""
 
     law: tuple[str, ...] = ()
-    """optional terms of the friction law, in :data:`LAW_TERMS` order"""
+    """optional terms of the friction law, in :data:`OPTIONAL_TERMS` order"""
     stroke_terms: int = 0
     cogging_orders: tuple[int, ...] = ()
 
     def __post_init__(self) -> None:
-        unknown = [t for t in self.law if t not in LAW_TERMS]
+        unknown = [t for t in self.law if t not in OPTIONAL_TERMS]
         if unknown:
-            raise IdentificationError(f"unknown law terms {unknown}: choose from {', '.join(LAW_TERMS)}")
-        object.__setattr__(self, "law", tuple(t for t in LAW_TERMS if t in self.law))
+            raise IdentificationError(f"unknown law terms {unknown}: choose from {', '.join(OPTIONAL_TERMS)}")
+        object.__setattr__(self, "law", tuple(t for t in OPTIONAL_TERMS if t in self.law))
 
     @property
     def terms(self) -> tuple[str, ...]:

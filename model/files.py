@@ -5,7 +5,8 @@ included.)
 Inputs. :func:`check_input_file` turns every way a path can fail (missing, a directory, a name too
 long, no permission) into one line naming the path and the reason; :func:`check_distinct_inputs`
 refuses one file named twice (the same file under two names, hard or symbolic links included:
-files are compared by device and inode, never by name).
+files are compared by device and inode, never by name); :func:`read_json` reads a JSON result file
+back with the same kind of one-line error.
 
 Outputs. :func:`check_output_dir` and :func:`check_output_file` refuse an unusable output before any
 work; :func:`check_output_file` also refuses an output that is one of the command's inputs (whatever
@@ -28,6 +29,7 @@ import threading
 from collections.abc import Iterable, Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path
+from typing import Any
 
 from .errors import AxisflowError
 
@@ -103,6 +105,19 @@ def check_distinct_inputs(paths: Iterable[str | Path], what: str = "input") -> N
         if identity in seen:
             raise InputError(f"{what} {seen[identity]} and {what} {path} are the same file: give each once")
         seen[identity] = Path(path)
+
+
+def read_json(path: str | Path, error: type[AxisflowError]) -> Any:
+    """The JSON value in the file ``path``: a result file read back. A missing file, one that cannot be
+    read or is not JSON raises ``error`` (the reader's own exception) in one line naming the path."""
+    import json
+
+    try:
+        return json.loads(Path(path).read_text("utf-8"))
+    except FileNotFoundError:
+        raise error(f"{path} does not exist") from None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise error(f"{path} cannot be read as JSON: {exc}") from None
 
 
 # ---- outputs -----------------------------------------------------------------------------------------

@@ -245,13 +245,17 @@ FILE_KEYS: tuple[str, ...] = (*PARAMETER_KEYS, "energy_accounting", "transmissio
 _TRANSMISSION_TOP_KEYS = tuple(dict.fromkeys(k for cls in TRANSMISSION_KINDS.values() for k in cls.keys))
 
 
+def _with_units(keys: list[str]) -> str:
+    """``key [unit], …`` for a message (a dimensionless key bare)."""
+    return ", ".join(f"{k} [{PARAMETER_UNITS[k]}]" if PARAMETER_UNITS[k] else k for k in keys)
+
+
 def _transmission_from(data: dict[str, Any], source: str) -> Transmission:
     table = data.get("transmission")
     if table is None:  # the paper's flat belt keys
         missing = [k for k in Belt.keys if k not in data]
         if missing:
-            units = ", ".join(f"{k} [{PARAMETER_UNITS[k]}]" if PARAMETER_UNITS[k] else k for k in missing)
-            raise ParameterError(f"{source}: missing key(s) {units}")
+            raise ParameterError(f"{source}: missing key(s) {_with_units(missing)}")
         return Belt(**{k: _number(k, data[k]) for k in Belt.keys})
     if not isinstance(table, dict):
         raise ParameterError(f"{source}: transmission must be a table ([transmission]), got {table!r}")
@@ -275,8 +279,9 @@ def _transmission_from(data: dict[str, Any], source: str) -> Transmission:
         )
     missing = [k for k in cls.keys if k not in table]
     if missing:
-        units = ", ".join(f"{k} [{PARAMETER_UNITS[k]}]" for k in missing)
-        raise ParameterError(f"{source}: [transmission] of kind {kind} is missing key(s) {units}")
+        raise ParameterError(
+            f"{source}: [transmission] of kind {kind} is missing key(s) {_with_units(missing)}"
+        )
     return cls(**{k: _number(k, table[k]) for k in cls.keys})
 
 
@@ -291,8 +296,7 @@ def params_from_mapping(data: dict[str, Any], source: str = "parameters") -> Axi
         raise ParameterError(f"{source}: unknown key(s) {given}; allowed keys: {keys}")
     missing = [k for k in (*AXIS_KEYS, "energy_accounting") if k not in data]
     if missing:
-        units = ", ".join(f"{k} [{PARAMETER_UNITS[k]}]" if PARAMETER_UNITS[k] else k for k in missing)
-        raise ParameterError(f"{source}: missing key(s) {units}")
+        raise ParameterError(f"{source}: missing key(s) {_with_units(missing)}")
     for term in LAW_TERMS:
         term_keys = TERMS[term].parameters
         present = [k for k in term_keys if k in data]

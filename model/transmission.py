@@ -14,6 +14,9 @@ lossless transmission; its losses are friction, and friction is :mod:`.friction`
 | ``rack-pinion`` | J_m, J_g, J_p, r, i_r | r/i_r | ((J_m + J_g)·i_r² + J_p)/r² (one pinion) |
 | ``linear-motor`` | — | 1 | 0 (the moving coil's mass is part of m) |
 
+A belt and a rack and pinion are one shape, :class:`PulleyDrive`, that differs in the number of
+wheels of inertia J_p turning at the output.
+
 i_r is the reduction between the motor and the driven element (pulley, screw, pinion): a gearbox, a
 belt stage, or 1 for a direct coupling. A **linear motor** has no rotary side: its "motor torque" is a
 force [N] and its "motor angle" a position [m] (k = 1 m/rad, read as 1 m per m), so the motor-side
@@ -108,21 +111,25 @@ class Transmission:
 
 
 @dataclass(frozen=True)
-class Belt(Transmission):
-    """Belt and pulleys with a gearbox: the paper's axis (two pulleys, driving and idler)."""
+class PulleyDrive(Transmission):
+    """The shape of a drive whose output is a toothed wheel of pitch radius r on the carriage's belt
+    or rack, behind a reduction i_r: k = r/i_r, and :attr:`wheels` wheels of inertia J_p turn with it
+    (the belt's driving and idler pulleys, or the one pinion of a rack). :class:`Belt` and
+    :class:`RackPinion` are its kinds."""
 
-    kind: ClassVar[str] = "belt"
     keys: ClassVar[tuple[str, ...]] = ("J_m", "J_g", "J_p", "r", "i_r")
+    wheels: ClassVar[int]
+    """how many wheels of inertia J_p turn at the output"""
     J_m: float
     """motor rotor inertia [kg·m²]"""
     J_g: float
     """gearbox inertia referred to the motor [kg·m²]"""
     J_p: float
-    """inertia of one pulley [kg·m²]"""
+    """inertia of one pulley, or of the pinion [kg·m²]"""
     r: float
-    """pulley pitch radius [m]"""
+    """pulley (or pinion) pitch radius [m]"""
     i_r: float
-    """gear reduction ratio (motor revolutions per pulley revolution) [-]"""
+    """gear reduction ratio (motor revolutions per pulley or pinion revolution) [-]"""
 
     @property
     def metres_per_radian(self) -> float:
@@ -137,11 +144,19 @@ class Belt(Transmission):
         return self.i_r / self.r
 
     def reflected_mass_kg(self) -> float:
-        return ((self.J_m + self.J_g) * self.i_r**2 + 2.0 * self.J_p) / self.r**2
+        return ((self.J_m + self.J_g) * self.i_r**2 + self.wheels * self.J_p) / self.r**2
 
     @property
     def output_travel_m(self) -> float:
         return 2.0 * math.pi * self.r
+
+
+@dataclass(frozen=True)
+class Belt(PulleyDrive):
+    """Belt and pulleys with a gearbox: the paper's axis (two pulleys, driving and idler)."""
+
+    kind: ClassVar[str] = "belt"
+    wheels: ClassVar[int] = 2
 
 
 @dataclass(frozen=True)
@@ -175,40 +190,11 @@ class BallScrew(Transmission):
 
 
 @dataclass(frozen=True)
-class RackPinion(Transmission):
+class RackPinion(PulleyDrive):
     """A pinion on a rack, driven through a gearbox (ratio i_r)."""
 
     kind: ClassVar[str] = "rack-pinion"
-    keys: ClassVar[tuple[str, ...]] = ("J_m", "J_g", "J_p", "r", "i_r")
-    J_m: float
-    """motor rotor inertia [kg·m²]"""
-    J_g: float
-    """gearbox inertia referred to the motor [kg·m²]"""
-    J_p: float
-    """the pinion's inertia [kg·m²]"""
-    r: float
-    """pinion pitch radius [m]"""
-    i_r: float
-    """gear reduction ratio (motor revolutions per pinion revolution) [-]"""
-
-    @property
-    def metres_per_radian(self) -> float:
-        return self.r / self.i_r
-
-    @property
-    def radians_per_metre(self) -> float:
-        return self.i_r / self.r  # as written in eq. (1), not 1/k rounded twice
-
-    @property
-    def force_per_torque(self) -> float:
-        return self.i_r / self.r
-
-    def reflected_mass_kg(self) -> float:
-        return ((self.J_m + self.J_g) * self.i_r**2 + self.J_p) / self.r**2
-
-    @property
-    def output_travel_m(self) -> float:
-        return 2.0 * math.pi * self.r
+    wheels: ClassVar[int] = 1
 
 
 @dataclass(frozen=True)

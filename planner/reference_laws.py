@@ -189,17 +189,15 @@ def friction_limited_speed(params: AxisParams) -> float:
     """The speed [m/s] at which friction takes the whole force limit, φ(v) = F_max (∞ if never):
     full force accelerates the cart towards it, but never to it."""
     f = params.f_max
-    if float(forward_friction(0.0, params)) >= f:
+    law = params.forward(1.0)  # φ of forward_friction, as a record
+    if float(law.value(0.0)) >= f:
         return 0.0
-    if (
-        params.a2 == 0.0
-        and params.a1 + params.f0 + (params.a3 * math.pi / 2 if params.a4 > 0.0 else 0.0) <= f
-    ):
+    if law.b == 0.0 and law.saturated_n <= f:
         return math.inf  # friction saturates below the force limit
     hi = 1.0
     for _ in range(_DOUBLINGS):
-        if float(forward_friction(hi, params)) >= f:
-            return _brent(lambda v: float(forward_friction(v, params)) - f, 0.0, hi, "the friction-limited v")
+        if float(law.value(hi)) >= f:
+            return _brent(lambda v: float(law.value(v)) - f, 0.0, hi, "the friction-limited v")
         hi *= 2.0
     return math.inf  # φ stays below F_max beyond 2^64 m/s: no speed the axis reaches
 

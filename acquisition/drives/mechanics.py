@@ -21,9 +21,10 @@ the tick:
 
 The stroke ends at 0 and L are hard stops for the cart (position clamped, velocity zeroed).
 
-Both loops inline the friction law for speed (the integrator runs ~4000 steps per second of drive time
-in pure Python, where numpy on scalars costs several times more); tests/acquisition/drives hold each
-copy to the model's law.
+Both loops step the cart with :func:`cart_velocity`, which inlines the friction law for speed (the
+integrator runs ~4000 steps per second of drive time in pure Python, where numpy on scalars costs
+several times more); tests/acquisition/drives/test_mechanics.py holds it, through both loops, to the
+model's law.
 """
 
 from __future__ import annotations
@@ -32,6 +33,37 @@ import math
 
 from ...model import EXECUTION_PERIOD_S, AxisParams
 from .plant import BeltConfig
+
+
+def cart_velocity(
+    v: float,
+    force_n: float,
+    mass_kg: float,
+    dt_s: float,
+    f0: float,
+    up: float,
+    down: float,
+    viscous_up: float,
+    viscous_down: float,
+    a3: float,
+    a4: float,
+) -> float:
+    """The cart's velocity [m/s] after one step of ``dt_s`` from ``v`` under the force ``force_n`` [N]
+    (the motor's, or the belt's pull), with friction: the law of :mod:`axisflow.model.friction` inlined
+    (module docstring), its parameters per direction (``up`` = a1 + da1 and ``viscous_up`` = a2 + da2
+    towards +x, ``down`` = a1 − da1 and ``viscous_down`` = a2 − da2 towards −x). Karnopp at rest: the
+    cart stays at 0 while −down ≤ F − f0 ≤ up; a step that would reverse the motion ends at 0."""
+    if v == 0.0:
+        net = force_n - f0
+        if -down <= net <= up:
+            return 0.0  # static friction holds the cart
+        return ((net - up) if net > 0.0 else (net + down)) / mass_kg * dt_s
+    if v > 0.0:
+        friction = f0 + up + viscous_up * v + a3 * math.atan(a4 * v)
+    else:
+        friction = f0 - down + viscous_down * v + a3 * math.atan(a4 * v)
+    v_next = v + (force_n - friction) / mass_kg * dt_s
+    return 0.0 if v_next * v < 0.0 else v_next
 
 
 class RigidAxis:
@@ -72,20 +104,11 @@ class RigidAxis:
         parameters, :mod:`axisflow.model.friction`)."""
         x, v, dt, M, L = self.x, self.v, self._dt, self._M, self.axis.L
         up, down = a1 + da1, a1 - da1  # Coulomb friction towards +x and towards -x
+        viscous_up, viscous_down = a2 + da2, a2 - da2
         for _ in range(self._substeps):
+            v = cart_velocity(v, force_n, M, dt, f0, up, down, viscous_up, viscous_down, a3, a4)
             if v == 0.0:
-                net = force_n - f0
-                if -down <= net <= up:
-                    continue  # static friction holds the cart
-                v = ((net - up) if net > 0.0 else (net + down)) / M * dt
-            else:
-                # the friction law of axisflow.model.friction, inlined (module docstring)
-                if v > 0.0:
-                    friction = f0 + up + (a2 + da2) * v + a3 * math.atan(a4 * v)
-                else:
-                    friction = f0 - down + (a2 - da2) * v + a3 * math.atan(a4 * v)
-                v_next = v + (force_n - friction) / M * dt
-                v = 0.0 if v_next * v < 0.0 else v_next
+                continue  # at rest: static friction holds the cart, or the motion just stopped
             x += v * dt
             if x < 0.0:
                 x, v = 0.0, 0.0
@@ -138,23 +161,14 @@ class BeltAxis:
         dt, m, m_r, c, L = self._dt, self.m, self.m_rotating, self.damping_n_s_m, self.axis.L
         k = self.belt.spring_rate_n * (1.0 / (x + self._near) + 1.0 / (self._far - x))
         up, down = a1 + da1, a1 - da1  # Coulomb friction towards +x and towards -x
+        viscous_up, viscous_down = a2 + da2, a2 - da2
         for _ in range(self._substeps):
             belt = k * (xm - x) + c * (vm - v)
             vm += (force_n - belt) / m_r * dt
             xm += vm * dt
+            v = cart_velocity(v, belt, m, dt, f0, up, down, viscous_up, viscous_down, a3, a4)
             if v == 0.0:
-                net = belt - f0
-                if -down <= net <= up:
-                    continue  # static friction holds the cart
-                v = ((net - up) if net > 0.0 else (net + down)) / m * dt
-            else:
-                # the friction law of axisflow.model.friction, inlined (module docstring)
-                if v > 0.0:
-                    friction = f0 + up + (a2 + da2) * v + a3 * math.atan(a4 * v)
-                else:
-                    friction = f0 - down + (a2 - da2) * v + a3 * math.atan(a4 * v)
-                v_next = v + (belt - friction) / m * dt
-                v = 0.0 if v_next * v < 0.0 else v_next
+                continue  # at rest: static friction holds the cart, or the motion just stopped
             x += v * dt
             if x < 0.0:
                 x, v = 0.0, 0.0

@@ -24,7 +24,7 @@ from typing import Any
 
 from ..model import AxisflowError
 from ..model.energy import energy_error_pct
-from ..model.files import ensure_dir, write_atomic_files
+from ..model.files import ensure_dir, read_json, write_atomic_files
 
 
 class MoveEnergyError(AxisflowError, ValueError):
@@ -105,12 +105,7 @@ def write_move_energies(moves: Sequence[MoveEnergy], folder: str | Path, stem: s
 
 def read_move_energies(path: str | Path) -> list[MoveEnergy]:
     """The moves of a ``moves.json`` written by :func:`write_move_energies`."""
-    try:
-        data = json.loads(Path(path).read_text("utf-8"))
-    except FileNotFoundError:
-        raise MoveEnergyError(f"{path} does not exist") from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise MoveEnergyError(f"{path} cannot be read as JSON: {exc}") from None
+    data = read_json(path, MoveEnergyError)
     if not isinstance(data, list):
         raise MoveEnergyError(f"{path}: not a list of moves")
     return [MoveEnergy.decode(item, f"{path}, move {i}") for i, item in enumerate(data)]

@@ -18,7 +18,6 @@ written together, are :mod:`.table2_markdown`'s.
 
 from __future__ import annotations
 
-import json
 import math
 from collections import Counter
 from collections.abc import Sequence
@@ -31,6 +30,7 @@ import numpy as np
 from ..acquisition import PlanRecord
 from ..model import AxisflowError, AxisParams, EnergyAccounting
 from ..model.energy import energy_error_pct
+from ..model.files import read_json
 from ..model.params import FILE_KEYS, params_from_mapping
 from ..planner import Case, PlanResult
 from .paper import PAPER_TABLE2, PAPER_WAYPOINTS, PaperRow
@@ -421,10 +421,4 @@ class Table2:
 
 def read_table2(path: str | Path) -> Table2:
     """A ``table2.json`` written by :func:`~.table2_markdown.write_table2`."""
-    try:
-        data = json.loads(Path(path).read_text("utf-8"))
-    except FileNotFoundError:
-        raise Table2Error(f"{path} does not exist") from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise Table2Error(f"{path} cannot be read as JSON: {exc}") from None
-    return Table2.decode(data)
+    return Table2.decode(read_json(path, Table2Error))

@@ -29,7 +29,7 @@ from pathlib import Path
 from typing import Any
 
 from ..model import AxisflowError
-from ..model.files import write_atomic
+from ..model.files import ensure_dir, read_json, write_atomic_files
 
 J_PER_KWH = 3.6e6
 ASSUMPTIONS: tuple[str, ...] = (
@@ -227,23 +227,17 @@ class SavingsReport:
 
 
 def read_report(path: str | Path) -> SavingsReport:
-    try:
-        data = json.loads(Path(path).read_text("utf-8"))
-    except FileNotFoundError:
-        raise SavingsReportError(f"{path} does not exist") from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise SavingsReportError(f"{path} cannot be read as JSON: {exc}") from None
-    return SavingsReport.decode(data, str(path))
+    return SavingsReport.decode(read_json(path, SavingsReportError), str(path))
 
 
-def write_report(report: SavingsReport, folder: Path) -> list[Path]:
-    """``savings.json`` and ``savings.md`` in ``folder``, each written atomically."""
-    folder.mkdir(parents=True, exist_ok=True)
+def write_report(
+    report: SavingsReport, folder: Path, also: Mapping[str, str | bytes] | None = None
+) -> list[Path]:
+    """``savings.json``, ``savings.md`` and the files ``also`` ({name: content}: the figure) in
+    ``folder`` (created if needed), written together atomically."""
     text = json.dumps(report.encode(), indent=1, allow_nan=False) + "\n"
-    paths = [folder / "savings.json", folder / "savings.md"]
-    write_atomic(paths[0], text)
-    write_atomic(paths[1], markdown(report))
-    return paths
+    files = {"savings.json": text, "savings.md": markdown(report), **(also or {})}
+    return write_atomic_files(ensure_dir(folder), files)
 
 
 RUN_TITLES = {

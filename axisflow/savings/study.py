@@ -10,7 +10,7 @@
 4. runs the three runs through a simulated bridge and measures them from its recording
    (:mod:`.axis_run`, :mod:`.measurement`), unless ``measure`` is off;
 5. writes ``savings.json``, ``savings.md`` (:mod:`.report`) and ``savings.png``
-   (:mod:`axisflow.viz.savings_figure`) into the output folder, each atomically.
+   (:mod:`axisflow.viz.savings_figure`) into the output folder, together atomically.
 """
 
 from __future__ import annotations
@@ -22,7 +22,6 @@ from pathlib import Path
 
 from ..acquisition import AxisKeys
 from ..model import AxisParams
-from ..model.files import write_atomic
 from ..planner.baseline_limits import axis_limits, baseline_limits, check_law
 from ..planner.cycle_time import match_cycle_time
 from .comparison import Comparison, PlannedRun, plan_comparison
@@ -81,8 +80,7 @@ def run_savings(
         price_per_kwh=settings.price_per_kwh,
         plant=plant,
     )
-    write_report(report, settings.out)
-    write_atomic(settings.out / "savings.png", figure(report, comparison))
+    write_report(report, settings.out, {"savings.png": figure(report, comparison)})
     return report
 
 

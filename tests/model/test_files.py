@@ -15,6 +15,7 @@ from axisflow.model.files import (
     check_distinct_inputs,
     check_input_file,
     check_output_file,
+    read_json,
     signals_held,
     write_atomic,
     write_atomic_files,
@@ -44,6 +45,26 @@ INPUT_CASES = [
 def test_an_input_that_cannot_be_read_is_named_with_the_reason(folder, name, match):
     with pytest.raises(InputError, match=match):
         check_input_file(folder / name, "log")
+
+
+class _RecordError(Exception):
+    pass
+
+
+def test_a_json_result_file_is_read_back_or_refused_in_one_line_naming_it(tmp_path):
+    good = tmp_path / "r.json"
+    good.write_text('{"rows": [1, 2.5]}', encoding="utf-8")
+    assert read_json(good, _RecordError) == {"rows": [1, 2.5]}
+    (tmp_path / "bad.json").write_text("{rows", encoding="utf-8")
+    (tmp_path / "latin.json").write_bytes(b'"\xe9"')  # not UTF-8
+    for name, match in [
+        ("none.json", r"none\.json does not exist"),
+        ("bad.json", r"bad\.json cannot be read as JSON: Expecting property name"),
+        ("latin.json", r"latin\.json cannot be read as JSON: 'utf-8' codec"),
+        (".", r"cannot be read as JSON: \[Errno 21\]"),
+    ]:
+        with pytest.raises(_RecordError, match=match):
+            read_json(tmp_path / name, _RecordError)
 
 
 def test_one_file_named_twice_is_refused_whatever_its_names(folder):

@@ -97,6 +97,24 @@ def test_bad_parameter_files_are_rejected_with_key_value_and_unit(tmp_path, over
         load_params(f)
 
 
+def test_a_missing_key_is_named_with_its_unit_and_a_dimensionless_one_bare(tmp_path):
+    """The flat belt keys and a [transmission] table name what is missing the same way."""
+    flat = tmp_path / "flat.toml"
+    flat.write_text(_toml(r=None, i_r=None))
+    with pytest.raises(ParameterError, match=r"missing key\(s\) r \[m\], i_r$"):
+        load_params(flat)
+    table = tmp_path / "table.toml"
+    keys = {"J_m": 1e-4, "J_g": 1e-5, "J_p": 1e-4, "r": 0.03}
+    body = _toml(**dict.fromkeys(("J_m", "J_g", "J_p", "r", "i_r")))
+    table.write_text(
+        body + '\n[transmission]\nkind = "rack-pinion"\n' + "".join(f"{k} = {v}\n" for k, v in keys.items())
+    )
+    with pytest.raises(
+        ParameterError, match=r"\[transmission\] of kind rack-pinion is missing key\(s\) i_r$"
+    ):
+        load_params(table)
+
+
 def test_non_finite_value_is_rejected(tmp_path):
     f = tmp_path / "nan.toml"
     f.write_text(_toml().replace("a1 = ", "a1 = nan #"))

@@ -157,6 +157,18 @@ def test_without_viscous_and_low_speed_friction_the_top_speed_is_v_max(params):
     assert prof.cruise_velocity_m_s == pytest.approx(expected, rel=1e-9)
 
 
+def test_the_friction_limited_speed_takes_the_asymmetry_in(params):
+    """a2 = 0, the Coulomb and atan friction saturating 10 N below F_max, and +20 N of asymmetry
+    towards +x: φ₊ crosses F_max at a finite speed, where the model's law says."""
+    from axisflow.planner.reference_laws import friction_limited_speed
+
+    saturated = params.a1 + params.a3 * math.pi / 2
+    p = params.replace(a2=0.0, da1=20.0, tau_max=(saturated + 10.0) / params.force_per_torque)
+    v = friction_limited_speed(p)
+    assert math.isfinite(v)
+    assert float(forward_friction(v, p)) == pytest.approx(p.f_max, rel=1e-9)
+
+
 def test_a_move_below_one_encoder_count_is_the_zero_profile(params):
     """Shorter than one count (2π·r/131072 = 1.917 µm): the reference laws plan nothing, in no time."""
     for d in (5e-324, 1e-310, 1e-6):

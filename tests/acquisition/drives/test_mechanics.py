@@ -15,30 +15,68 @@ FRICTION = (P.a1, P.a2, P.a3, P.a4)
 SPEEDS = [-1.3, -0.2, -1e-3, -1e-6, 1e-6, 1e-3, 0.2, 1.3]
 
 
+# the paper's law, and one with an offset and an asymmetry (the cart's Karnopp band and each
+# direction's friction differ)
+LAWS = {"paper": P, "terms": P.replace(f0=12.0, da1=-9.0, da2=25.0)}
+
+
+def _friction(params):
+    return (params.a1, params.a2, params.a3, params.a4, params.f0, params.da1, params.da2)
+
+
+@pytest.mark.parametrize("law", LAWS)
 @pytest.mark.parametrize("v0", SPEEDS)
-def test_the_rigid_integrators_friction_is_the_models_law(v0):
-    axis = RigidAxis(P, substeps=1, position_m=0.4)
+def test_the_rigid_integrators_friction_is_the_models_law(v0, law):
+    params = LAWS[law]
+    axis = RigidAxis(params, substeps=1, position_m=0.4)
     axis.set_state(0.4, v0)
-    axis.advance(0.0, *FRICTION)  # one step of dt with no motor force: M·Δv = −F_c(v0)·dt
-    _check_step(v0, axis.v, P.M_eq)
+    axis.advance(0.0, *_friction(params))  # one step of dt with no motor force: M·Δv = −F_c(v0)·dt
+    _check_step(v0, axis.v, params.M_eq, params)
 
 
+@pytest.mark.parametrize("law", LAWS)
 @pytest.mark.parametrize("v0", SPEEDS)
-def test_the_belt_integrators_friction_is_the_models_law(v0):
-    axis = BeltAxis(P, BELT, substeps=1, position_m=0.4)
+def test_the_belt_integrators_friction_is_the_models_law(v0, law):
+    params = LAWS[law]
+    axis = BeltAxis(params, BELT, substeps=1, position_m=0.4)
     axis.set_state(0.4, v0)  # unstretched, both masses at v0: the belt pulls nothing in the first step
-    axis.advance(0.0, *FRICTION)
-    _check_step(v0, axis.v, P.m)
+    axis.advance(0.0, *_friction(params))
+    _check_step(v0, axis.v, params.m, params)
     assert axis.motor_v == v0  # no force on the motor side yet
 
 
-def _check_step(v0, v1, mass):
+def _check_step(v0, v1, mass, params):
     """v1 = v0 − F_c(v0)·dt/mass, or rest where that would reverse the motion."""
-    expected = v0 - float(friction_force(v0, P)) * EXECUTION_PERIOD_S / mass
+    friction = float(friction_force(v0, params))
+    expected = v0 - friction * EXECUTION_PERIOD_S / mass
     if expected * v0 < 0:
         assert v1 == 0.0
     else:
-        assert (v0 - v1) * mass / EXECUTION_PERIOD_S == pytest.approx(float(friction_force(v0, P)), rel=1e-9)
+        assert (v0 - v1) * mass / EXECUTION_PERIOD_S == pytest.approx(friction, rel=1e-9)
+
+
+@pytest.mark.parametrize("mechanics", ["rigid", "belt"])
+def test_a_cart_at_rest_breaks_away_where_the_law_says(mechanics):
+    """Karnopp with the terms: at rest the cart holds while −(a1 − da1) ≤ F − f0 ≤ a1 + da1, and a
+    force past either edge moves it that way by the excess (M·v = (F − F_c(0±))·dt)."""
+    params = LAWS["terms"]
+    up, down = params.a1 + params.da1, params.a1 - params.da1
+    for force, moves in [
+        (params.f0 + up - 1e-6, 0),
+        (params.f0 - down + 1e-6, 0),
+        (params.f0 + up + 1.0, 1),
+        (params.f0 - down - 1.0, -1),
+    ]:
+        if mechanics == "rigid":
+            axis, mass, drive = RigidAxis(params, substeps=1, position_m=0.4), params.M_eq, force
+        else:  # the belt stretched so that it pulls ``force`` on the cart in the first step
+            axis, mass, drive = BeltAxis(params, BELT, substeps=1, position_m=0.4), params.m, 0.0
+            axis.motor_x = 0.4 + force / BELT.stiffness_n_m(0.4, params.L)
+        axis.advance(drive, *_friction(params))
+        assert math.copysign(1.0, axis.v) * (axis.v != 0.0) == moves, force
+        if moves:
+            excess = force - params.f0 - moves * (up if moves > 0 else down)
+            assert axis.v * mass / EXECUTION_PERIOD_S == pytest.approx(excess, rel=1e-6)
 
 
 def test_the_belt_mode_rings_at_the_springs_frequency():
